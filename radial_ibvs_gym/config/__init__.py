@@ -1,0 +1,16 @@
+"""Typed configuration: strict construction of frozen dataclasses from YAML or dicts.
+
+Domain dataclasses (mirrors, intrinsics, robots, scenarios, agent settings) live in their own
+layers and validate their values in ``__post_init__``; this module only turns mappings into them,
+rejecting unknown or missing keys with the full key path in the message.
+"""
+
+from radial_ibvs_gym.config.loader import (
+    ConfigError,
+    config_path,
+    configs_dir,
+    from_mapping,
+    load_yaml,
+)
+
+__all__ = ["ConfigError", "config_path", "configs_dir", "from_mapping", "load_yaml"]

@@ -1,0 +1,28 @@
+"""Angle helpers."""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+__all__ = ["wrap_angle"]
+
+
+def wrap_angle(angle: ArrayLike) -> NDArray[np.float64]:
+    """Wrap angles to the half-open interval ``[-pi, pi)``.
+
+    Parameters
+    ----------
+    angle
+        Angles in radians, any shape.
+
+    Returns
+    -------
+    numpy.ndarray
+        Same shape as ``angle``, in radians, in ``[-pi, pi)``.
+    """
+    a = np.asarray(angle, dtype=np.float64)
+    shifted = np.mod(a + np.pi, 2.0 * np.pi)
+    # np.mod(-tiny, 2 pi) rounds up to exactly 2 pi: fold it back so the result stays < pi.
+    shifted = np.where(shifted >= 2.0 * np.pi, 0.0, shifted)
+    return shifted - np.pi

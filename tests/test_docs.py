@@ -1,0 +1,29 @@
+"""The README's quick start stays true: CI runs its test command verbatim."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _quick_start_commands() -> list[str]:
+    readme = (ROOT / "README.md").read_text()
+    section = readme.split("## Quick start", 1)[1].split("\n## ", 1)[0]
+    blocks = re.findall(r"```(?:bash|sh)\n(.*?)```", section, flags=re.S)
+    return [line.strip() for b in blocks for line in b.splitlines() if line.strip()]
+
+
+def test_readme_has_two_quick_start_commands() -> None:
+    commands = _quick_start_commands()
+    assert len(commands) == 2, commands
+    setup_and_demo, setup_and_test = commands
+    assert "torch==2.13.0" in setup_and_demo and "radial-ibvs demo" in setup_and_demo
+    assert "torch==2.13.0" in setup_and_test and "pytest" in setup_and_test
+
+
+def test_ci_runs_the_readme_test_command_verbatim() -> None:
+    test_command = _quick_start_commands()[1]
+    ci = (ROOT / ".ci" / "run").read_text()
+    assert test_command in ci.splitlines()

@@ -1,0 +1,52 @@
+"""The maths layers never import the simulation or RL stack (one-way imports)."""
+
+from __future__ import annotations
+
+import ast
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+PACKAGE = Path(__file__).resolve().parents[1] / "radial_ibvs_gym"
+#: lower layers first; a layer may import only itself and the layers before it
+LAYERS = ("config", "geometry", "camera", "features")
+MATHS_LAYERS = LAYERS[1:]
+FORBIDDEN = ("gymnasium", "pymunk", "stable_baselines3", "torch", "matplotlib", "agents")
+
+
+def _imports(path: Path) -> set[str]:
+    tree = ast.parse(path.read_text(), filename=str(path))
+    names: set[str] = set()
+    for node in ast.walk(tree):
+        if isinstance(node, ast.Import):
+            names.update(alias.name for alias in node.names)
+        elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
+            names.add(node.module)
+    return names
+
+
+@pytest.mark.parametrize("layer", MATHS_LAYERS)
+def test_maths_layer_imports_only_numpy_and_lower_layers(layer: str) -> None:
+    files = sorted((PACKAGE / layer).rglob("*.py"))
+    assert files, f"no module found in {layer}"
+    for path in files:
+        for name in _imports(path):
+            top = name.split(".")[0]
+            assert top not in FORBIDDEN, f"{path.name} imports {name}"
+            if name.startswith("radial_ibvs_gym."):
+                sub = name.split(".")[1]
+                allowed = {"_validation", *LAYERS[: LAYERS.index(layer) + 1]}
+                assert sub in allowed, f"{path.name} imports the higher layer {name}"
+
+
+def test_importing_maths_layers_loads_no_simulation_stack() -> None:
+    code = (
+        "import sys\n"
+        "import radial_ibvs_gym.camera, radial_ibvs_gym.features, radial_ibvs_gym.geometry\n"
+        f"bad = [m for m in {FORBIDDEN!r} if m in sys.modules]\n"
+        "print(','.join(bad))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == ""
