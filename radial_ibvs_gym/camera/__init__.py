@@ -1,0 +1,43 @@
+"""Catadioptric camera models and the radial model (paper Section 2; pure numpy).
+
+- :mod:`.pinhole`: intrinsics ``K`` (eq. 2-3);
+- :mod:`.mirrors`: quadric mirrors of revolution (hyperboloid, ellipsoid, paraboloid, sphere,
+  cone);
+- :mod:`.catadioptric`: exact forward/backward projection, central and non-central,
+  visibility and imperfections;
+- :mod:`.radial`: the radial model, pixels or 3D points to the unit circle (eq. 4-9);
+- :mod:`.presets`: the paper's mirrors A and B with a 6 mm lens.
+"""
+
+from radial_ibvs_gym.camera.catadioptric import CatadioptricCamera, Imperfections, Projection
+from radial_ibvs_gym.camera.mirrors import (
+    Cone,
+    Ellipsoid,
+    Hyperboloid,
+    Paraboloid,
+    QuadricMirror,
+    Sphere,
+)
+from radial_ibvs_gym.camera.pinhole import Intrinsics
+from radial_ibvs_gym.camera.presets import MIRROR_A, MIRROR_B, paper_camera, paper_intrinsics
+from radial_ibvs_gym.camera.radial import RadialPoints, normalise_pixels, radial_points
+
+__all__ = [
+    "MIRROR_A",
+    "MIRROR_B",
+    "CatadioptricCamera",
+    "Cone",
+    "Ellipsoid",
+    "Hyperboloid",
+    "Imperfections",
+    "Intrinsics",
+    "Paraboloid",
+    "Projection",
+    "QuadricMirror",
+    "RadialPoints",
+    "Sphere",
+    "normalise_pixels",
+    "paper_camera",
+    "paper_intrinsics",
+    "radial_points",
+]

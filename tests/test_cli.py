@@ -1,0 +1,46 @@
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from radial_ibvs_gym import paper
+from radial_ibvs_gym.camera import paper_camera
+from radial_ibvs_gym.cli import main
+from radial_ibvs_gym.demo import invariance_error
+from radial_ibvs_gym.geometry import world_to_camera
+
+
+def test_help_lists_demo(capsys: pytest.CaptureFixture[str]) -> None:
+    with pytest.raises(SystemExit) as exc:
+        main(["--help"])
+    assert exc.value.code == 0
+    assert "demo" in capsys.readouterr().out
+
+
+def test_demo_saves_a_png_and_reports_the_invariance(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = tmp_path / "sub" / "demo.png"
+    assert main(["demo", "--out", str(out), "--task", "2"]) == 0
+    assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    text = capsys.readouterr().out
+    assert "mirror A" in text and "mirror B" in text
+    assert "8/8 points visible" in text
+
+
+def test_demo_rejects_an_unknown_task() -> None:
+    with pytest.raises(SystemExit) as exc:
+        main(["demo", "--task", "7"])
+    assert exc.value.code == 2
+
+
+@pytest.mark.parametrize("mirror", ["A", "B"])
+@pytest.mark.parametrize("task", [0, 1, 2, 3])
+def test_eq39_points_visible_and_radial_at_start_and_goals(mirror: str, task: int) -> None:
+    camera = paper_camera(mirror, non_central_offset=0.01)
+    for pose in (paper.START_POSE, paper.goal_pose(task)):
+        p_cam = world_to_camera(paper.EQ39_POINTS, pose, paper.CAMERA_HEIGHT_M)
+        assert np.all(camera.visible(p_cam))
+        assert invariance_error(camera, p_cam) < 1e-9
