@@ -211,7 +211,7 @@ class CatadioptricCamera:
         """Mirror point, normal, unit direction to the camera and world direction at ``s``."""
         r = np.abs(s)
         mz = self.mirror.profile_z(r)
-        slope = np.sign(s) * self.mirror.profile_slope(r)
+        slope = np.where(s < 0.0, -1.0, 1.0) * self.mirror.profile_slope(r)
         nn = np.sqrt(1.0 + slope * slope)
         nx, nz = slope / nn, -1.0 / nn
         ux, uz = _unit2(-s, self.camera_z - mz)

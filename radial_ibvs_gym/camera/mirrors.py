@@ -81,7 +81,7 @@ class QuadricMirror:
         signed radius ``rho < 0`` (the other half of the meridian plane) ``n_rho`` flips sign.
         """
         r = np.asarray(rho, dtype=np.float64)
-        slope = np.sign(r) * self.profile_slope(np.abs(r))
+        slope = np.where(r < 0.0, -1.0, 1.0) * self.profile_slope(np.abs(r))
         norm = np.sqrt(1.0 + slope * slope)
         return np.stack([slope / norm, -1.0 / norm], axis=-1)
 
