@@ -26,9 +26,11 @@ from radial_ibvs_gym.geometry import rot_x, rot_y
 
 __all__ = ["CatadioptricCamera", "Imperfections", "Projection"]
 
-#: Samples of the bracketing grid along the mirror profile, and bisection iterations.
+#: Samples of the bracketing grid along the mirror profile, then bisection and regula-falsi
+#: iterations of the root-find.
 _GRID = 96
-_BISECTIONS = 60
+_BISECTIONS = 24
+_SECANTS = 3
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -241,15 +243,26 @@ class CatadioptricCamera:
         k = np.argmax(bracket, axis=1)
         lo, hi = grid[k], grid[k + 1]
         g_lo = g[np.arange(len(k)), k]
+        g_hi = g[np.arange(len(k)), k + 1]
         rp, zp = rho_p, z_p
+        # bisection shrinks the bracket to ~1e-10 m, then a few regula-falsi steps (the residual
+        # is smooth there) reach machine precision
         for _ in range(_BISECTIONS):
             mid = 0.5 * (lo + hi)
             g_mid, _ = self._residual(mid, rp, zp)
             left = np.sign(g_mid) == np.sign(g_lo)
-            lo = np.where(left, mid, lo)
-            g_lo = np.where(left, g_mid, g_lo)
-            hi = np.where(left, hi, mid)
-        s = 0.5 * (lo + hi)
+            lo, g_lo = np.where(left, mid, lo), np.where(left, g_mid, g_lo)
+            hi, g_hi = np.where(left, hi, mid), np.where(left, g_hi, g_mid)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            s = 0.5 * (lo + hi)
+            for _ in range(_SECANTS):
+                step = g_lo * (hi - lo) / (g_hi - g_lo)
+                s = np.where(np.isfinite(step) & (g_hi != g_lo), lo - step, s)
+                s = np.clip(s, np.minimum(lo, hi), np.maximum(lo, hi))
+                g_s, _ = self._residual(s, rp, zp)
+                left = np.sign(g_s) == np.sign(g_lo)
+                lo, g_lo = np.where(left, s, lo), np.where(left, g_s, g_lo)
+                hi, g_hi = np.where(left, hi, s), np.where(left, g_hi, g_s)
         _, ok = self._residual(s, rp, zp)
         return np.where(found & ok, s, np.nan)
 
