@@ -27,3 +27,13 @@ def test_ci_runs_the_readme_test_command_verbatim() -> None:
     test_command = _quick_start_commands()[1]
     ci = (ROOT / ".ci" / "run").read_text()
     assert test_command in ci.splitlines()
+
+
+def test_readme_python_snippets_run() -> None:
+    """Every ```python block of the README runs, in order, in one namespace."""
+    readme = (ROOT / "README.md").read_text()
+    blocks = re.findall(r"```python\n(.*?)```", readme, flags=re.S)
+    assert blocks
+    namespace: dict[str, object] = {}
+    for block in blocks:
+        exec(compile(block, "README.md", "exec"), namespace)
