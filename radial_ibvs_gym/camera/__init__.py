@@ -6,7 +6,8 @@
 - :mod:`.catadioptric`: exact forward/backward projection, central and non-central,
   visibility and imperfections;
 - :mod:`.radial`: the radial model, pixels or 3D points to the unit circle (eq. 4-9);
-- :mod:`.presets`: the paper's mirrors A and B with a 6 mm lens.
+- :mod:`.presets`: the paper's mirrors A and B with a 6 mm lens;
+- :mod:`.spec`: camera configs loaded from ``configs/cameras/*.yaml``.
 """
 
 from radial_ibvs_gym.camera.catadioptric import CatadioptricCamera, Imperfections, Projection
@@ -21,10 +22,12 @@ from radial_ibvs_gym.camera.mirrors import (
 from radial_ibvs_gym.camera.pinhole import Intrinsics
 from radial_ibvs_gym.camera.presets import MIRROR_A, MIRROR_B, paper_camera, paper_intrinsics
 from radial_ibvs_gym.camera.radial import RadialPoints, normalise_pixels, radial_points
+from radial_ibvs_gym.camera.spec import CameraSpec, load_camera
 
 __all__ = [
     "MIRROR_A",
     "MIRROR_B",
+    "CameraSpec",
     "CatadioptricCamera",
     "Cone",
     "Ellipsoid",
@@ -36,6 +39,7 @@ __all__ = [
     "QuadricMirror",
     "RadialPoints",
     "Sphere",
+    "load_camera",
     "normalise_pixels",
     "paper_camera",
     "paper_intrinsics",
