@@ -17,6 +17,7 @@ from radial_ibvs_gym.camera import (
     Sphere,
     normalise_pixels,
     paper_camera,
+    presets,
     radial_points,
 )
 from radial_ibvs_gym.camera.presets import ELEVATION_RANGE_DEG, MIRROR_A
@@ -196,7 +197,9 @@ def test_points_above_the_rim_ray_and_in_the_blind_cone_are_hidden() -> None:
 @pytest.mark.parametrize(("mirror", "offset"), list(ELEVATION_RANGE_DEG))
 def test_preset_fields_of_view_match_their_documentation(mirror: str, offset: float) -> None:
     lo, hi = np.degrees(paper_camera(mirror, non_central_offset=offset).elevation_range())
-    assert (lo, hi) == pytest.approx(ELEVATION_RANGE_DEG[(mirror, offset)], abs=0.05)
+    documented = ELEVATION_RANGE_DEG[(mirror, offset)]
+    assert (lo, hi) == pytest.approx(documented, abs=0.05)
+    assert f"{documented[0]:+.2f} to {documented[1]:+.2f}" in presets.__doc__
 
 
 def test_batched_forward_equals_loop() -> None:

@@ -8,15 +8,15 @@ sensor, consistent with the principal point (643, 535) measured in the paper), s
 ``fx = fy = 6 mm / 5.3 um = 1132.1 px``. The lens radius seen in the mirror (the blind zone) is
 15 mm.
 
-Vertical field of view (elevation of the limiting world rays, degrees; measured by
-``tests/test_camera_presets.py``, which recomputes them):
+Vertical field of view (elevation of the limiting world rays, degrees;
+``tests/test_catadioptric.py`` recomputes them and checks this table):
 
-============  =====================  =============================
-mirror        central                non-central (pinhole +10 mm)
-============  =====================  =============================
-A             {A_central}            {A_noncentral}
-B             {B_central}            {B_noncentral}
-============  =====================  =============================
+======  ==================  ============================
+mirror  central             non-central (pinhole +10 mm)
+======  ==================  ============================
+A       -77.56 to +17.61    -75.46 to +20.15
+B       -78.23 to +7.89     -76.35 to +10.47
+======  ==================  ============================
 """
 
 from __future__ import annotations
@@ -57,13 +57,6 @@ ELEVATION_RANGE_DEG: dict[tuple[str, float], tuple[float, float]] = {
     ("B", 0.0): (-78.23, 7.89),
     ("B", 0.01): (-76.35, 10.47),
 }
-
-__doc__ = __doc__.format(
-    **{
-        f"{m}_{'central' if off == 0 else 'noncentral'}": f"{lo:+.2f} to {hi:+.2f}"
-        for (m, off), (lo, hi) in ELEVATION_RANGE_DEG.items()
-    }
-)
 
 
 def paper_intrinsics() -> Intrinsics:
