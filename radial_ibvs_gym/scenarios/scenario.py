@@ -1,0 +1,214 @@
+"""Drawing episodes from a scenario: room, landmarks, start and goal poses."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, NamedTuple
+
+import numpy as np
+
+from radial_ibvs_gym.camera import CatadioptricCamera
+from radial_ibvs_gym.config import config_path, load_yaml
+from radial_ibvs_gym.geometry import world_to_camera
+from radial_ibvs_gym.scenarios.spec import PoseRange, ScenarioConfig
+
+__all__ = ["Episode", "Scenario", "load_scenario"]
+
+#: Attempts at drawing a valid episode before giving up with an error.
+MAX_TRIES = 1000
+
+
+class Episode(NamedTuple):
+    """One drawn episode (world frame, metres and radians).
+
+    Attributes
+    ----------
+    task
+        Index of the task in the scenario.
+    room
+        ``(2,)`` width and depth of the room ``[0, width] x [0, depth]``.
+    landmarks
+        ``(N, 3)`` landmark positions.
+    start, goal
+        ``(3,)`` poses ``(x, y, yaw)``.
+    """
+
+    task: int
+    room: np.ndarray
+    landmarks: np.ndarray
+    start: np.ndarray
+    goal: np.ndarray
+
+
+class Scenario:
+    """A validated scenario with its cameras built, ready to draw episodes.
+
+    Parameters
+    ----------
+    config
+        The scenario's configuration.
+
+    Raises
+    ------
+    ValueError
+        If a fixed goal (with fixed landmarks) shows fewer than ``min_visible_at_goal``
+        landmarks, or a fixed start shows fewer than that.
+    """
+
+    def __init__(self, config: ScenarioConfig) -> None:
+        self.config = config
+        self.camera: CatadioptricCamera = config.camera.build()
+        self.goal_camera: CatadioptricCamera = (
+            config.goal_camera.build() if config.goal_camera is not None else self.camera
+        )
+        if config.landmarks and config.random_room is None:
+            for k, task in enumerate(config.tasks):
+                for which, spec, cam in (
+                    ("goal", task.goal, self.goal_camera),
+                    ("start", task.start, self.camera),
+                ):
+                    if isinstance(spec, tuple):
+                        n = int(self.visible(np.array(spec), cam=cam).sum())
+                        if n < config.min_visible_at_goal:
+                            raise ValueError(
+                                f"scenario {config.name!r}, task {k}: only {n} of "
+                                f"{len(config.landmarks)} landmarks are visible at the {which} "
+                                f"pose {list(spec)}; at least {config.min_visible_at_goal} are "
+                                "needed (min_visible_at_goal)"
+                            )
+
+    @property
+    def n_tasks(self) -> int:
+        """Number of tasks."""
+        return len(self.config.tasks)
+
+    @property
+    def n_landmarks(self) -> int:
+        """Number of landmarks per episode."""
+        c = self.config
+        return len(c.landmarks) if c.landmarks else c.random_landmarks.count  # type: ignore[union-attr]
+
+    def visible(
+        self,
+        pose: np.ndarray,
+        landmarks: np.ndarray | None = None,
+        cam: CatadioptricCamera | None = None,
+    ) -> np.ndarray:
+        """Visibility mask ``(N,)`` of the landmarks from a robot pose ``(x, y, yaw)``."""
+        pts = np.asarray(self.config.landmarks) if landmarks is None else landmarks
+        p_cam = world_to_camera(pts, pose, self.config.camera_height)
+        return (cam or self.camera).visible(p_cam)
+
+    def _pose(self, spec: Any, room: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+        if isinstance(spec, PoseRange):
+            return spec.sample(rng)
+        if spec == "anywhere":
+            c = self.config.wall_clearance
+            return rng.uniform([c, c, -np.pi], [room[0] - c, room[1] - c, np.pi])
+        return np.array(spec, dtype=np.float64)
+
+    def _landmarks(self, room: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+        spec = self.config.random_landmarks
+        if spec is None:
+            return np.array(self.config.landmarks, dtype=np.float64)
+        # a point on the perimeter, uniform in arc length, then a height
+        w, d = room
+        u = rng.uniform(0.0, 2.0 * (w + d), spec.count)
+        x = np.select([u < w, u < w + d, u < 2 * w + d], [u, w, 2 * w + d - u], 0.0)
+        y = np.select([u < w, u < w + d, u < 2 * w + d], [0.0, u - w, d], 2 * (w + d) - u)
+        z = rng.uniform(*spec.height, spec.count)
+        return np.stack([x, y, z], axis=-1)
+
+    def _inside(self, pose: np.ndarray, room: np.ndarray) -> bool:
+        c = self.config.wall_clearance
+        return bool(c <= pose[0] <= room[0] - c and c <= pose[1] <= room[1] - c)
+
+    def sample(self, rng: np.random.Generator, task: int | None = None) -> Episode:
+        """Draw an episode.
+
+        Parameters
+        ----------
+        rng
+            The random generator (the env's ``np_random``).
+        task
+            Task index; ``None`` draws one uniformly.
+
+        Returns
+        -------
+        Episode
+            A start and goal inside the room, within the distance bounds, with at least
+            ``min_visible_at_goal`` landmarks visible at both.
+
+        Raises
+        ------
+        ValueError
+            For a task index out of range, or when no valid episode was found in
+            ``MAX_TRIES`` draws (the scenario is too constrained).
+        """
+        c = self.config
+        if task is None:
+            task = int(rng.integers(self.n_tasks))
+        elif not (isinstance(task, (int, np.integer)) and 0 <= task < self.n_tasks):
+            raise ValueError(f"task must be in 0..{self.n_tasks - 1}, got {task!r}")
+        spec = c.tasks[task]
+        for _ in range(MAX_TRIES):
+            room = (
+                np.array([rng.uniform(*c.random_room.width), rng.uniform(*c.random_room.depth)])
+                if c.random_room is not None
+                else np.array(c.room, dtype=np.float64)
+            )
+            landmarks = self._landmarks(room, rng)
+            start = self._pose(spec.start, room, rng)
+            goal = self._pose(spec.goal, room, rng)
+            dist = float(np.hypot(*(goal[:2] - start[:2])))
+            if not (self._inside(start, room) and self._inside(goal, room)):
+                continue
+            if not (c.min_start_goal_distance <= dist <= c.max_start_goal_distance):
+                continue
+            need = c.min_visible_at_goal
+            if self.visible(goal, landmarks, self.goal_camera).sum() < need:
+                continue
+            if self.visible(start, landmarks).sum() < need:
+                continue
+            return Episode(task, room, landmarks, start, goal)
+        raise ValueError(
+            f"scenario {c.name!r}: no valid episode in {MAX_TRIES} draws (poses inside the room, "
+            f"start-goal distance in [{c.min_start_goal_distance}, {c.max_start_goal_distance}] "
+            f"m, >= {c.min_visible_at_goal} landmarks visible): relax the scenario"
+        )
+
+    def goal_depths(self, episode: Episode) -> np.ndarray:
+        """Goal depths ``d*`` (horizontal distances at the goal, metres), times ``depth_scale``.
+
+        This is the only 3D knowledge the paper's controller may use (Section 4.1).
+        """
+        p = world_to_camera(episode.landmarks, episode.goal, self.config.camera_height)
+        return self.config.depth_scale * np.hypot(p[:, 0], p[:, 1])
+
+
+def load_scenario(name_or_path: str | Path, **overrides: Any) -> Scenario:
+    """Load a scenario by shipped name (``configs/scenarios/<name>.yaml``) or from a path.
+
+    Parameters
+    ----------
+    name_or_path
+        ``"paper-sim"``, ``"paper-lab"``, ``"random"``, or a path to a YAML file.
+    **overrides
+        Top-level keys replacing those of the file (e.g. ``depth_scale=1.3``).
+
+    Returns
+    -------
+    Scenario
+        The validated scenario.
+
+    Raises
+    ------
+    radial_ibvs_gym.config.ConfigError
+        For an unknown name, key or bad value.
+    ValueError
+        For a scene where too few landmarks are visible at a fixed goal or start.
+    """
+    path = Path(name_or_path)
+    if path.suffix not in (".yaml", ".yml"):
+        path = config_path("scenarios", str(name_or_path))
+    return Scenario(load_yaml(ScenarioConfig, path, **overrides))

@@ -1,0 +1,203 @@
+"""Scenario configurations: room, landmarks, camera, start and goal distributions.
+
+A scenario is data (``configs/scenarios/<name>.yaml``), validated on load: unknown keys are
+rejected, values checked, and a scene whose goal image shows fewer than
+``min_visible_at_goal`` landmarks is refused with a message.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Any, Literal
+
+import numpy as np
+
+from radial_ibvs_gym.camera import CameraSpec
+
+__all__ = ["PoseRange", "RandomLandmarks", "RandomRoom", "ScenarioConfig", "TaskSpec"]
+
+Pose = tuple[float, float, float]
+
+
+def _check_range(value: tuple[float, float], name: str, *, positive: bool = False) -> None:
+    lo, hi = value
+    if not (math.isfinite(lo) and math.isfinite(hi) and lo <= hi):
+        raise ValueError(
+            f"{name} must be a finite range [low, high] with low <= high, got {value!r}"
+        )
+    if positive and lo <= 0:
+        raise ValueError(f"{name} must be positive, got {value!r}")
+
+
+@dataclass(frozen=True, kw_only=True)
+class PoseRange:
+    """Uniform distribution of planar poses (a coordinate with ``low == high`` is fixed).
+
+    Attributes
+    ----------
+    x, y
+        ``[low, high]`` ranges of the position, metres (world frame).
+    yaw
+        ``[low, high]`` range of the heading, radians.
+    """
+
+    x: tuple[float, float]
+    y: tuple[float, float]
+    yaw: tuple[float, float] = (-math.pi, math.pi)
+
+    def __post_init__(self) -> None:
+        for name in ("x", "y", "yaw"):
+            _check_range(getattr(self, name), name)
+
+    def sample(self, rng: np.random.Generator) -> np.ndarray:
+        """Draw one pose ``(x, y, yaw)`` (metres, radians)."""
+        lows = np.array([self.x[0], self.y[0], self.yaw[0]])
+        highs = np.array([self.x[1], self.y[1], self.yaw[1]])
+        return np.asarray(rng.uniform(lows, highs), dtype=np.float64)
+
+
+@dataclass(frozen=True, kw_only=True)
+class TaskSpec:
+    """One parking task: where the robot starts and the pose it must reach.
+
+    Attributes
+    ----------
+    start, goal
+        A fixed pose ``[x, y, yaw]`` (metres, radians), a :class:`PoseRange`, or
+        ``"anywhere"`` (uniform in the room, ``wall_clearance`` from the walls, any heading).
+    """
+
+    start: Pose | PoseRange | Literal["anywhere"]
+    goal: Pose | PoseRange | Literal["anywhere"]
+
+    def __post_init__(self) -> None:
+        for name in ("start", "goal"):
+            value = getattr(self, name)
+            if isinstance(value, tuple) and not all(math.isfinite(v) for v in value):
+                raise ValueError(f"{name} must be finite, got {value!r}")
+
+
+@dataclass(frozen=True, kw_only=True)
+class RandomRoom:
+    """Rectangular rooms of random size.
+
+    Attributes
+    ----------
+    width, depth
+        ``[low, high]`` ranges of the room's extent along x and y, metres.
+    """
+
+    width: tuple[float, float] = (6.0, 12.0)
+    depth: tuple[float, float] = (6.0, 12.0)
+
+    def __post_init__(self) -> None:
+        _check_range(self.width, "width", positive=True)
+        _check_range(self.depth, "depth", positive=True)
+
+
+@dataclass(frozen=True, kw_only=True)
+class RandomLandmarks:
+    """Landmarks drawn uniformly on the room's walls.
+
+    Attributes
+    ----------
+    count
+        Number of landmarks (>= 3: the paper's features need at least 3 points).
+    height
+        ``[low, high]`` range of their height above the floor, metres.
+    """
+
+    count: int = 8
+    height: tuple[float, float] = (0.2, 2.4)
+
+    def __post_init__(self) -> None:
+        if self.count < 3:
+            raise ValueError(f"count must be >= 3 landmarks, got {self.count!r}")
+        _check_range(self.height, "height")
+
+
+@dataclass(frozen=True, kw_only=True)
+class ScenarioConfig:
+    """Everything that defines a family of parking episodes.
+
+    Attributes
+    ----------
+    name
+        Scenario name.
+    description
+        One paragraph for humans.
+    room
+        ``[width, depth]`` of the rectangular room ``[0, width] x [0, depth]``, metres, unless
+        ``random_room`` is set.
+    random_room
+        Draw the room size per episode instead.
+    landmarks
+        Fixed landmarks ``[[x, y, z], ...]`` in the world frame, metres, unless
+        ``random_landmarks`` is set.
+    random_landmarks
+        Draw landmarks on the walls per episode instead.
+    tasks
+        The parking tasks; ``task=k`` picks one, ``task=None`` draws one per episode.
+    min_start_goal_distance, max_start_goal_distance
+        Bounds on the start-goal distance of drawn tasks, metres.
+    wall_clearance
+        Smallest distance from a drawn pose to a wall, metres.
+    camera
+        The robot's catadioptric camera.
+    goal_camera
+        Camera that took the goal image, if not ``camera`` (the paper's mirror-swap test).
+    camera_height
+        Height of the camera's optical centre above the floor, metres.
+    depth_scale
+        Scale error on the goal depths ``d*`` given to the controller (the paper uses 1.3).
+    min_visible_at_goal
+        Fewest landmarks the goal image must show (>= 3).
+    robot
+        Overrides of the robot's physical parameters (validated by the physics layer).
+    """
+
+    name: str
+    description: str = ""
+    room: tuple[float, float] = (10.0, 10.0)
+    random_room: RandomRoom | None = None
+    landmarks: tuple[tuple[float, float, float], ...] = ()
+    random_landmarks: RandomLandmarks | None = None
+    tasks: tuple[TaskSpec, ...] = ()
+    min_start_goal_distance: float = 0.0
+    max_start_goal_distance: float = math.inf
+    wall_clearance: float = 0.5
+    camera: CameraSpec = field(default_factory=CameraSpec)
+    goal_camera: CameraSpec | None = None
+    camera_height: float = 1.8
+    depth_scale: float = 1.0
+    min_visible_at_goal: int = 3
+    robot: dict[str, Any] = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        w, d = self.room
+        if not (math.isfinite(w) and math.isfinite(d) and w > 0 and d > 0):
+            raise ValueError(f"room must be a positive [width, depth] in metres, got {self.room!r}")
+        if not self.tasks:
+            raise ValueError("a scenario needs at least one task (start and goal)")
+        if bool(self.landmarks) == (self.random_landmarks is not None):
+            raise ValueError("give exactly one of landmarks (fixed) and random_landmarks")
+        for i, p in enumerate(self.landmarks):
+            if not all(math.isfinite(v) for v in p):
+                raise ValueError(f"landmarks[{i}] must be finite, got {p!r}")
+        lo, hi = self.min_start_goal_distance, self.max_start_goal_distance
+        if not (lo >= 0 and hi > lo):
+            raise ValueError(
+                f"need 0 <= min_start_goal_distance < max_start_goal_distance, got {lo!r}, {hi!r}"
+            )
+        for name in ("wall_clearance", "camera_height", "depth_scale"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be finite and positive, got {value!r}")
+        if self.min_visible_at_goal < 3:
+            raise ValueError(f"min_visible_at_goal must be >= 3, got {self.min_visible_at_goal!r}")
+        n = len(self.landmarks) if self.landmarks else self.random_landmarks.count  # type: ignore[union-attr]
+        if self.min_visible_at_goal > n:
+            raise ValueError(
+                f"min_visible_at_goal={self.min_visible_at_goal} exceeds the {n} landmarks"
+            )
