@@ -1,0 +1,143 @@
+"""The ``kinematic`` backend: the exact unicycle model in numpy (no inertia, no contact forces).
+
+Used to reproduce the paper (its simulations are kinematic) and for speed. Collisions with the
+walls are detected geometrically and reported, but nothing stops the robot.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from radial_ibvs_gym.geometry import wrap_angle
+from radial_ibvs_gym.physics.diffdrive import RobotConfig, limit_command
+
+__all__ = ["KinematicWorld", "StepResult", "integrate_unicycle"]
+
+
+class StepResult(NamedTuple):
+    """What one control step did.
+
+    Attributes
+    ----------
+    pose
+        ``(3,)`` robot pose ``(x, y, yaw)`` after the step, metres and radians in ``[-pi, pi)``.
+    velocity
+        ``(2,)`` the ``(v, omega)`` applied after the limits, m/s and rad/s.
+    collision
+        Whether the robot's footprint touched a wall during this step (checked at its end).
+    n_collisions
+        Number of steps with a collision since the last reset.
+    """
+
+    pose: NDArray[np.float64]
+    velocity: NDArray[np.float64]
+    collision: bool
+    n_collisions: int
+
+
+def integrate_unicycle(pose: ArrayLike, v: float, omega: float, dt: float) -> NDArray[np.float64]:
+    """Exact pose after moving with constant ``(v, omega)`` for ``dt`` seconds (an arc).
+
+    Parameters
+    ----------
+    pose
+        ``(3,)`` start pose ``(x, y, yaw)``, metres and radians.
+    v, omega
+        Linear (m/s) and angular (rad/s) speed.
+    dt
+        Duration, seconds.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(3,)`` end pose, yaw wrapped to ``[-pi, pi)``.
+    """
+    x, y, th = (float(c) for c in np.asarray(pose, dtype=np.float64))
+    half = 0.5 * omega * dt
+    # chord of the arc: v/omega (sin th' - sin th) = v dt sinc(half) cos(th + half), and the
+    # same for y; this form has no cancellation for small omega (and is exact for omega = 0)
+    chord = v * dt * (math.sin(half) / half if abs(half) > 1e-12 else 1.0 - half * half / 6.0)
+    x += chord * math.cos(th + half)
+    y += chord * math.sin(th + half)
+    return np.array([x, y, float(wrap_angle(th + omega * dt))])
+
+
+class KinematicWorld:
+    """A differential-drive robot in a rectangular room, integrated exactly.
+
+    Parameters
+    ----------
+    robot
+        The robot's parameters (limits apply to every command).
+    room
+        ``(width, depth)`` of the room ``[0, width] x [0, depth]``, metres.
+    """
+
+    def __init__(self, robot: RobotConfig, room: tuple[float, float]) -> None:
+        w, d = (float(v) for v in room)
+        if not (w > 0 and d > 0 and math.isfinite(w) and math.isfinite(d)):
+            raise ValueError(f"room must be a positive (width, depth), got {room!r}")
+        self.robot = robot
+        self.room = (w, d)
+        half = 0.5 * np.array([robot.length, robot.width])
+        self._corners = np.array([[1, 1], [1, -1], [-1, -1], [-1, 1]]) * half  # body frame
+        self._pose = np.zeros(3)
+        self._velocity = np.zeros(2)
+        self._time = 0.0
+        self._n_collisions = 0
+
+    @property
+    def pose(self) -> NDArray[np.float64]:
+        """Current pose ``(x, y, yaw)``, metres and radians (a copy)."""
+        return self._pose.copy()
+
+    @property
+    def velocity(self) -> NDArray[np.float64]:
+        """Velocity ``(v, omega)`` applied over the last step, m/s and rad/s (a copy)."""
+        return self._velocity.copy()
+
+    @property
+    def time(self) -> float:
+        """Seconds simulated since the last reset."""
+        return self._time
+
+    def colliding(self, pose: ArrayLike) -> bool:
+        """Whether the robot's footprint at ``pose`` leaves the room."""
+        x, y, th = np.asarray(pose, dtype=np.float64)
+        c, s = math.cos(th), math.sin(th)
+        px = x + c * self._corners[:, 0] - s * self._corners[:, 1]
+        py = y + s * self._corners[:, 0] + c * self._corners[:, 1]
+        w, d = self.room
+        return bool(px.min() < 0.0 or py.min() < 0.0 or px.max() > w or py.max() > d)
+
+    def reset(self, pose: ArrayLike) -> None:
+        """Place the robot at rest at ``pose`` ``(x, y, yaw)``.
+
+        Raises
+        ------
+        ValueError
+            If the pose is not finite or the robot would overlap a wall there.
+        """
+        p = np.asarray(pose, dtype=np.float64)
+        if p.shape != (3,) or not np.isfinite(p).all():
+            raise ValueError(f"pose must be three finite numbers (x, y, yaw), got {pose!r}")
+        if self.colliding(p):
+            raise ValueError(f"start pose {p.tolist()} puts the robot into a wall of the room")
+        self._pose = np.array([p[0], p[1], float(wrap_angle(p[2]))])
+        self._velocity = np.zeros(2)
+        self._time = 0.0
+        self._n_collisions = 0
+
+    def step(self, command: ArrayLike, dt: float) -> StepResult:
+        """Apply ``(v, omega)`` (after the robot's limits) for ``dt`` seconds."""
+        vel = limit_command(command, self._velocity, dt, self.robot)
+        self._pose = integrate_unicycle(self._pose, vel[0], vel[1], dt)
+        self._velocity = vel
+        self._time += dt
+        collision = self.colliding(self._pose)
+        self._n_collisions += int(collision)
+        return StepResult(self._pose.copy(), vel.copy(), collision, self._n_collisions)
