@@ -8,4 +8,8 @@ Layers (imports flow one way): ``geometry`` -> ``camera`` -> ``features`` -> phy
 
 __version__ = "0.1.0"
 
+from radial_ibvs_gym.envs import register_envs
+
+register_envs()
+
 __all__ = ["__version__"]

@@ -1,0 +1,331 @@
+"""``RadialIBVS/Parking-v0``: park a differential-drive robot seen only through a goal image."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+from typing import Any, Literal
+
+import gymnasium as gym
+import numpy as np
+from gymnasium import spaces
+
+from radial_ibvs_gym.features import c_ij, pair_indices, virtual_point_weights
+from radial_ibvs_gym.geometry import wrap_angle
+from radial_ibvs_gym.physics import KinematicWorld, RobotConfig
+from radial_ibvs_gym.scenarios import Episode, Scenario, load_scenario
+
+__all__ = ["ParkingEnv"]
+
+PHYSICS_BACKENDS = ("kinematic",)
+OBS_MODES = ("points", "features")
+
+
+class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
+    """Park a Pioneer-like robot at a goal pose that is known only by its omnidirectional image.
+
+    ## Description
+    The robot carries a catadioptric camera (the paper's mirror A by default, non-central). The
+    scene's landmarks are seen as normalised radial image points ``x_n`` on the unit circle
+    (eq. 9 of Aliakbarpour, Tahri and Araujo, RAS 2014); the goal is given as the image
+    ``x_n*`` taken at the goal pose. The task is the paper's parking problem (Section 4).
+
+    ## Action Space
+    ``Box(-1, 1, (2,), float32)``:
+
+    | index | meaning | mapped to |
+    |---|---|---|
+    | 0 | linear speed | ``v = a0 * max_linear_speed`` (m/s) |
+    | 1 | angular speed | ``omega = a1 * max_angular_speed`` (rad/s) |
+
+    Values are clipped to ``[-1, 1]``; a NaN or infinite action raises ``ValueError``. The
+    robot's speed and acceleration limits then apply (``RobotConfig``).
+
+    ## Observation Space
+    A ``Dict`` (``N`` landmarks, ``M = N (N - 1) / 2``):
+
+    | key | space | meaning |
+    |---|---|---|
+    | ``points`` | ``Box(-1, 1, (2N,))`` | current ``x_n``, flattened ``(x_1, y_1, ...)`` (1) |
+    | ``goal_points`` | ``Box(-1, 1, (2N,))`` | goal image ``x_n*``, flattened likewise (1) |
+    | ``visible`` | ``Box(0, 1, (N,))`` | 1 where the landmark is visible now |
+    | ``c_error`` | ``Box(-2, 2, (M,))`` | ``c*_ij - c_ij`` (2) |
+    | ``alpha_m_error`` | ``Box(-pi, pi, (1,))`` | ``alpha_m* - alpha_m``, radians (2) |
+
+    (1) zeros where the landmark is not visible. (2) ``obs_mode="features"`` only; 0 for pairs
+    with a hidden point; ``alpha_m`` uses the virtual point of the visible landmarks.
+
+    ## Rewards
+    ``r = progress + heading + time + collision + lost + success`` (named in
+    ``info["reward_terms"]``): ``progress = w_position (e_p(t-1) - e_p(t))`` (position error in
+    metres), ``heading = w_heading (e_h(t-1) - e_h(t))`` (radians), ``time = -time_penalty``,
+    ``collision = -collision_penalty`` on a collision, ``lost = -lost_penalty`` when too few
+    landmarks remain visible, ``success = success_bonus`` on success.
+
+    ## Starting State
+    Drawn from the scenario (``paper-sim``: start (3, 3) m heading 0, goal (7, 7) m with the
+    task's yaw). ``reset(options={"start": pose, "goal": pose, "task": k})`` fixes them.
+
+    ## Episode End
+    Termination: success (position error <= ``success_position_m`` and heading error <=
+    ``success_heading_deg``), a collision (if ``terminate_on_collision``), or fewer than
+    ``min_visible`` visible landmarks. Truncation: ``max_episode_steps`` of the registration
+    (600 steps of ``control_dt = 0.1`` s).
+
+    ## Arguments
+    | argument | default | meaning |
+    |---|---|---|
+    | ``scenario`` | ``"paper-sim"`` | shipped name or YAML path |
+    | ``task`` | ``None`` | task index; ``None`` draws one per episode |
+    | ``physics`` | ``"kinematic"`` | physics backend |
+    | ``obs_mode`` | ``"points"`` | ``"points"`` or ``"features"`` |
+    | ``control_dt`` | ``0.1`` | control period, seconds |
+    | ``success_position_m`` / ``success_heading_deg`` | ``0.02`` / ``2.0`` | success tolerances |
+    | ``min_visible`` | ``3`` | fewer visible landmarks terminate the episode |
+    | ``terminate_on_collision`` | ``True`` | |
+    | ``**scenario_overrides`` | | scenario keys, e.g. ``depth_scale=1.3`` |
+
+    ```python
+    import gymnasium as gym
+    import radial_ibvs_gym  # registers the environments
+
+    env = gym.make("RadialIBVS/Parking-v0", scenario="paper-sim", task=1)
+    obs, info = env.reset(seed=0)
+    ```
+
+    ## Version History
+    - v0: initial version (kinematic backend).
+    """
+
+    metadata: dict[str, Any] = {"render_modes": [], "render_fps": 10}  # noqa: RUF012
+
+    def __init__(
+        self,
+        scenario: str | Path = "paper-sim",
+        task: int | None = None,
+        physics: Literal["kinematic"] = "kinematic",
+        obs_mode: Literal["points", "features"] = "points",
+        control_dt: float = 0.1,
+        success_position_m: float = 0.02,
+        success_heading_deg: float = 2.0,
+        min_visible: int = 3,
+        terminate_on_collision: bool = True,
+        w_position: float = 1.0,
+        w_heading: float = 0.3,
+        time_penalty: float = 0.01,
+        collision_penalty: float = 1.0,
+        lost_penalty: float = 1.0,
+        success_bonus: float = 10.0,
+        render_mode: str | None = None,
+        **scenario_overrides: Any,
+    ) -> None:
+        if physics not in PHYSICS_BACKENDS:
+            raise ValueError(f"unknown physics {physics!r}; valid: {list(PHYSICS_BACKENDS)}")
+        if obs_mode not in OBS_MODES:
+            raise ValueError(f"unknown obs_mode {obs_mode!r}; valid: {list(OBS_MODES)}")
+        for name, value in (
+            ("control_dt", control_dt),
+            ("success_position_m", success_position_m),
+            ("success_heading_deg", success_heading_deg),
+        ):
+            if not (math.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be finite and positive, got {value!r}")
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(
+                f"render_mode {render_mode!r} is not supported; valid: "
+                f"{self.metadata['render_modes']}"
+            )
+        self.scenario: Scenario = load_scenario(scenario, **scenario_overrides)
+        if task is not None and not (0 <= task < self.scenario.n_tasks):
+            raise ValueError(f"task must be in 0..{self.scenario.n_tasks - 1}, got {task!r}")
+        n = self.scenario.n_landmarks
+        if not (3 <= min_visible <= n):
+            raise ValueError(f"min_visible must be in 3..{n}, got {min_visible!r}")
+        self.task = task
+        self.physics = physics
+        self.obs_mode = obs_mode
+        self.control_dt = float(control_dt)
+        self.success_position_m = float(success_position_m)
+        self.success_heading_rad = math.radians(success_heading_deg)
+        self.min_visible = int(min_visible)
+        self.terminate_on_collision = bool(terminate_on_collision)
+        self.weights = {
+            "w_position": w_position,
+            "w_heading": w_heading,
+            "time_penalty": time_penalty,
+            "collision_penalty": collision_penalty,
+            "lost_penalty": lost_penalty,
+            "success_bonus": success_bonus,
+        }
+        self.render_mode = render_mode
+        self.robot = RobotConfig.from_dict(dict(self.scenario.config.robot))
+        self._scale = np.array([self.robot.max_linear_speed, self.robot.max_angular_speed])
+        self._pairs = pair_indices(n)
+
+        self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
+        obs_spaces: dict[str, spaces.Space[Any]] = {
+            "points": spaces.Box(-1.0, 1.0, (2 * n,), np.float32),
+            "goal_points": spaces.Box(-1.0, 1.0, (2 * n,), np.float32),
+            "visible": spaces.Box(0.0, 1.0, (n,), np.float32),
+        }
+        if obs_mode == "features":
+            m = len(self._pairs[0])
+            obs_spaces["c_error"] = spaces.Box(-2.0, 2.0, (m,), np.float32)
+            obs_spaces["alpha_m_error"] = spaces.Box(-np.pi, np.pi, (1,), np.float32)
+        self.observation_space = spaces.Dict(obs_spaces)  # type: ignore[assignment]
+
+        self.world: KinematicWorld | None = None
+        self.episode: Episode | None = None
+        self._prev_errors: tuple[float, float] = (0.0, 0.0)
+
+    # --- step ----------------------------------------------------------------------------------
+    def step(
+        self, action: np.ndarray
+    ) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
+        """Apply one action for ``control_dt`` seconds (see the class docstring)."""
+        if self.world is None:
+            raise RuntimeError("call reset() before step()")
+        a = np.asarray(action, dtype=np.float64).reshape(-1)
+        if a.shape != (2,) or not np.isfinite(a).all():
+            raise ValueError(f"action must be two finite numbers in [-1, 1], got {action!r}")
+        result = self.world.step(np.clip(a, -1.0, 1.0) * self._scale, self.control_dt)
+        self._observe(result.pose)
+        pos_err, head_err = self._errors(result.pose)
+        success = pos_err <= self.success_position_m and head_err <= self.success_heading_rad
+        lost = self._n_visible < self.min_visible
+        w = self.weights
+        terms = {
+            "progress": w["w_position"] * (self._prev_errors[0] - pos_err),
+            "heading": w["w_heading"] * (self._prev_errors[1] - head_err),
+            "time": -w["time_penalty"],
+            "collision": -w["collision_penalty"] * float(result.collision),
+            "lost": -w["lost_penalty"] * float(lost),
+            "success": w["success_bonus"] * float(success),
+        }
+        self._prev_errors = (pos_err, head_err)
+        terminated = bool(success or lost or (result.collision and self.terminate_on_collision))
+        info = self._info(result.pose, pos_err, head_err, success, result.collision)
+        info["reward_terms"] = terms
+        return self._obs(), float(sum(terms.values())), terminated, False, info
+
+    # --- reset ---------------------------------------------------------------------------------
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
+        """Draw an episode from the scenario; ``options`` may fix ``start``, ``goal``, ``task``."""
+        super().reset(seed=seed)
+        options = dict(options or {})
+        unknown = sorted(set(options) - {"start", "goal", "task"})
+        if unknown:
+            raise ValueError(f"unknown reset option(s) {unknown}; valid: ['goal', 'start', 'task']")
+        task = options.get("task", self.task)
+        episode = self.scenario.sample(self.np_random, task=task)
+        for key in ("start", "goal"):
+            if key in options:
+                pose = np.asarray(options[key], dtype=np.float64)
+                if pose.shape != (3,) or not np.isfinite(pose).all():
+                    raise ValueError(f"options[{key!r}] must be (x, y, yaw), got {options[key]!r}")
+                episode = (
+                    episode._replace(start=pose) if key == "start" else episode._replace(goal=pose)
+                )
+        self.episode = episode
+        self.world = KinematicWorld(self.robot, (float(episode.room[0]), float(episode.room[1])))
+        self.world.reset(episode.start)
+        self._goal_depths = self.scenario.goal_depths(episode)
+        goal_cam = self.scenario.goal_camera
+        p_goal = self._to_camera(episode.goal)
+        goal_visible = goal_cam.visible(p_goal)
+        if goal_visible.sum() < self.min_visible:
+            raise ValueError(
+                f"only {int(goal_visible.sum())} landmarks are visible at the goal "
+                f"{episode.goal.tolist()}; at least {self.min_visible} are needed"
+            )
+        d_goal = np.hypot(p_goal[:, 0], p_goal[:, 1])
+        self._goal_points = (p_goal[:, :2] / d_goal[:, None]) * goal_visible[:, None]
+        self._goal_visible = goal_visible
+        if self.obs_mode == "features":
+            self._c_goal = c_ij(self._unit_or_dummy(self._goal_points, goal_visible))
+        self._observe(episode.start)
+        self._prev_errors = self._errors(episode.start)
+        pos_err, head_err = self._prev_errors
+        info = self._info(episode.start, pos_err, head_err, False, False)
+        return self._obs(), info
+
+    # --- helpers -------------------------------------------------------------------------------
+    def _to_camera(self, pose: np.ndarray) -> np.ndarray:
+        assert self.episode is not None
+        lm = self.episode.landmarks
+        dx, dy = lm[:, 0] - pose[0], lm[:, 1] - pose[1]
+        c, s = math.cos(pose[2]), math.sin(pose[2])
+        h = self.scenario.config.camera_height
+        return np.stack([c * dx + s * dy, -s * dx + c * dy, lm[:, 2] - h], axis=-1)
+
+    @staticmethod
+    def _unit_or_dummy(points: np.ndarray, mask: np.ndarray) -> np.ndarray:
+        # hidden points are zeros in the observation; the features need unit vectors, and the
+        # pairs with a hidden point are masked out afterwards
+        return np.where(mask[:, None], points, np.array([1.0, 0.0]))
+
+    def _observe(self, pose: np.ndarray) -> None:
+        p_cam = self._to_camera(pose)
+        visible = self.scenario.camera.visible(p_cam)
+        d = np.hypot(p_cam[:, 0], p_cam[:, 1])
+        self._points = np.where(visible[:, None], p_cam[:, :2] / d[:, None], 0.0)
+        self._visible = visible
+        self._n_visible = int(visible.sum())
+
+    def _errors(self, pose: np.ndarray) -> tuple[float, float]:
+        assert self.episode is not None
+        goal = self.episode.goal
+        return (
+            math.hypot(pose[0] - goal[0], pose[1] - goal[1]),
+            abs(float(wrap_angle(pose[2] - goal[2]))),
+        )
+
+    def _feature_errors(self) -> tuple[np.ndarray, np.ndarray]:
+        both = self._visible & self._goal_visible
+        i, j = self._pairs
+        pair_ok = both[i] & both[j]
+        c_now = c_ij(self._unit_or_dummy(self._points, both))
+        c_err = np.where(pair_ok, self._c_goal - c_now, 0.0)
+        alpha_err = 0.0
+        if both.sum() >= 2:
+            goal = self._goal_points[both]
+            try:
+                a = virtual_point_weights(goal)
+            except ValueError:  # goal points collinear with the axis: no virtual point
+                a = None
+            if a is not None:
+                p_goal, p_now = a @ goal, a @ self._points[both]
+                alpha_err = float(
+                    wrap_angle(math.atan2(p_goal[1], p_goal[0]) - math.atan2(p_now[1], p_now[0]))
+                )
+        return c_err, np.array([alpha_err])
+
+    def _obs(self) -> dict[str, np.ndarray]:
+        obs = {
+            "points": self._points.astype(np.float32).reshape(-1),
+            "goal_points": self._goal_points.astype(np.float32).reshape(-1),
+            "visible": self._visible.astype(np.float32),
+        }
+        if self.obs_mode == "features":
+            c_err, a_err = self._feature_errors()
+            obs["c_error"] = np.clip(c_err, -2.0, 2.0).astype(np.float32)
+            obs["alpha_m_error"] = a_err.astype(np.float32)
+        return obs
+
+    def _info(
+        self, pose: np.ndarray, pos_err: float, head_err: float, success: bool, collision: bool
+    ) -> dict[str, Any]:
+        assert self.episode is not None
+        return {
+            "robot_pose": np.asarray(pose, dtype=np.float64).copy(),
+            "goal_pose": self.episode.goal.copy(),
+            "position_error_m": pos_err,
+            "heading_error_deg": math.degrees(head_err),
+            "is_success": bool(success),
+            "collision": bool(collision),
+            "n_visible": self._n_visible,
+            "task": self.episode.task,
+            "goal_depths": self._goal_depths.copy(),
+        }
