@@ -3,19 +3,22 @@
 from gymnasium.envs.registration import register
 
 from radial_ibvs_gym.envs.parking import ParkingEnv
+from radial_ibvs_gym.envs.parking_goal import ParkingGoalEnv
 
-__all__ = ["ENV_IDS", "ParkingEnv", "register_envs"]
+__all__ = ["ENV_IDS", "ParkingEnv", "ParkingGoalEnv", "register_envs"]
 
-ENV_IDS = ("RadialIBVS/Parking-v0",)
+#: every registered id, with its entry point
+ENTRY_POINTS = {
+    "RadialIBVS/Parking-v0": "radial_ibvs_gym.envs.parking:ParkingEnv",
+    "RadialIBVS/ParkingGoal-v0": "radial_ibvs_gym.envs.parking_goal:ParkingGoalEnv",
+}
+ENV_IDS = tuple(ENTRY_POINTS)
 
 
 def register_envs() -> None:
     """Register the environments with Gymnasium (idempotent)."""
     from gymnasium.envs.registration import registry
 
-    if "RadialIBVS/Parking-v0" not in registry:
-        register(
-            id="RadialIBVS/Parking-v0",
-            entry_point="radial_ibvs_gym.envs.parking:ParkingEnv",
-            max_episode_steps=600,
-        )
+    for env_id, entry_point in ENTRY_POINTS.items():
+        if env_id not in registry:
+            register(id=env_id, entry_point=entry_point, max_episode_steps=600)
