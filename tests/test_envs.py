@@ -54,19 +54,21 @@ def rollout(env: gym.Env, seed: int, steps: int = 60) -> list[np.ndarray]:
     return trace
 
 
+@pytest.mark.parametrize("physics", ["pymunk", "kinematic"])
 @pytest.mark.parametrize("scenario", SCENARIOS)
-def test_same_seed_same_trajectory_bit_for_bit(scenario: str) -> None:
-    a = rollout(gym.make("RadialIBVS/Parking-v0", scenario=scenario), seed=7)
-    b = rollout(gym.make("RadialIBVS/Parking-v0", scenario=scenario), seed=7)
+def test_same_seed_same_trajectory_bit_for_bit(scenario: str, physics: str) -> None:
+    a = rollout(gym.make("RadialIBVS/Parking-v0", scenario=scenario, physics=physics), seed=7)
+    b = rollout(gym.make("RadialIBVS/Parking-v0", scenario=scenario, physics=physics), seed=7)
     assert len(a) == len(b)
     for x, y in zip(a, b, strict=True):
         np.testing.assert_array_equal(x, y)
-    c = rollout(gym.make("RadialIBVS/Parking-v0", scenario=scenario), seed=8)
+    c = rollout(gym.make("RadialIBVS/Parking-v0", scenario=scenario, physics=physics), seed=8)
     assert not all(np.array_equal(x, y) for x, y in zip(a, c, strict=False))
 
 
-def test_env_pickles_mid_episode() -> None:
-    env = gym.make("RadialIBVS/Parking-v0", task=2)
+@pytest.mark.parametrize("physics", ["pymunk", "kinematic"])
+def test_env_pickles_mid_episode(physics: str) -> None:
+    env = gym.make("RadialIBVS/Parking-v0", task=2, physics=physics)
     env.reset(seed=1)
     for _ in range(5):
         env.step(np.array([0.5, 0.2], np.float32))
@@ -130,7 +132,8 @@ def test_collision_terminates() -> None:
     ("kwargs", "match"),
     [
         ({"scenario": "nope"}, "unknown scenarios config 'nope'"),
-        ({"physics": "bullet"}, r"unknown physics 'bullet'; valid: \['kinematic'\]"),
+        ({"physics": "bullet"}, r"unknown physics .bullet.; valid: \[.pymunk., .kinematic.\]"),
+        ({"physics_dt": 0.03}, "must be a multiple of physics_dt"),
         ({"obs_mode": "pixels"}, "unknown obs_mode"),
         ({"task": 9}, r"task must be in 0\.\.3, got 9"),
         ({"control_dt": 0.0}, "control_dt must be finite and positive"),

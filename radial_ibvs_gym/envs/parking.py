@@ -12,12 +12,11 @@ from gymnasium import spaces
 
 from radial_ibvs_gym.features import c_ij, pair_indices, virtual_point_weights
 from radial_ibvs_gym.geometry import wrap_angle
-from radial_ibvs_gym.physics import KinematicWorld, RobotConfig
+from radial_ibvs_gym.physics import BACKENDS, KinematicWorld, PymunkWorld, RobotConfig, make_world
 from radial_ibvs_gym.scenarios import Episode, Scenario, load_scenario
 
 __all__ = ["ParkingEnv"]
 
-PHYSICS_BACKENDS = ("kinematic",)
 OBS_MODES = ("points", "features")
 
 
@@ -77,7 +76,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     |---|---|---|
     | ``scenario`` | ``"paper-sim"`` | shipped name or YAML path |
     | ``task`` | ``None`` | task index; ``None`` draws one per episode |
-    | ``physics`` | ``"kinematic"`` | physics backend |
+    | ``physics`` | ``"pymunk"`` | ``"pymunk"`` (contacts) or ``"kinematic"`` (exact unicycle) |
+    | ``physics_dt`` | ``0.01`` | pymunk sub-step, seconds (``control_dt`` is a multiple) |
     | ``obs_mode`` | ``"points"`` | ``"points"`` or ``"features"`` |
     | ``control_dt`` | ``0.1`` | control period, seconds |
     | ``success_position_m`` / ``success_heading_deg`` | ``0.02`` / ``2.0`` | success tolerances |
@@ -94,7 +94,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     ```
 
     ## Version History
-    - v0: initial version (kinematic backend).
+    - v0: initial version.
     """
 
     metadata: dict[str, Any] = {"render_modes": [], "render_fps": 10}  # noqa: RUF012
@@ -103,7 +103,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self,
         scenario: str | Path = "paper-sim",
         task: int | None = None,
-        physics: Literal["kinematic"] = "kinematic",
+        physics: Literal["pymunk", "kinematic"] = "pymunk",
+        physics_dt: float = 0.01,
         obs_mode: Literal["points", "features"] = "points",
         control_dt: float = 0.1,
         success_position_m: float = 0.02,
@@ -119,12 +120,13 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         render_mode: str | None = None,
         **scenario_overrides: Any,
     ) -> None:
-        if physics not in PHYSICS_BACKENDS:
-            raise ValueError(f"unknown physics {physics!r}; valid: {list(PHYSICS_BACKENDS)}")
+        if physics not in BACKENDS:
+            raise ValueError(f"unknown physics {physics!r}; valid: {list(BACKENDS)}")
         if obs_mode not in OBS_MODES:
             raise ValueError(f"unknown obs_mode {obs_mode!r}; valid: {list(OBS_MODES)}")
         for name, value in (
             ("control_dt", control_dt),
+            ("physics_dt", physics_dt),
             ("success_position_m", success_position_m),
             ("success_heading_deg", success_heading_deg),
         ):
@@ -145,6 +147,14 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.physics = physics
         self.obs_mode = obs_mode
         self.control_dt = float(control_dt)
+        self.physics_dt = float(physics_dt)
+        if (
+            physics == "pymunk"
+            and abs(round(control_dt / physics_dt) * physics_dt - control_dt) > 1e-9
+        ):
+            raise ValueError(
+                f"control_dt={control_dt!r} s must be a multiple of physics_dt={physics_dt!r} s"
+            )
         self.success_position_m = float(success_position_m)
         self.success_heading_rad = math.radians(success_heading_deg)
         self.min_visible = int(min_visible)
@@ -174,7 +184,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             obs_spaces["alpha_m_error"] = spaces.Box(-np.pi, np.pi, (1,), np.float32)
         self.observation_space = spaces.Dict(obs_spaces)  # type: ignore[assignment]
 
-        self.world: KinematicWorld | None = None
+        self.world: KinematicWorld | PymunkWorld | None = None
         self.episode: Episode | None = None
         self._prev_errors: tuple[float, float] = (0.0, 0.0)
 
@@ -229,7 +239,9 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
                     episode._replace(start=pose) if key == "start" else episode._replace(goal=pose)
                 )
         self.episode = episode
-        self.world = KinematicWorld(self.robot, (float(episode.room[0]), float(episode.room[1])))
+        room = (float(episode.room[0]), float(episode.room[1]))
+        extra = {"physics_dt": self.physics_dt} if self.physics == "pymunk" else {}
+        self.world = make_world(self.physics, self.robot, room, **extra)
         self.world.reset(episode.start)
         self._goal_depths = self.scenario.goal_depths(episode)
         goal_cam = self.scenario.goal_camera

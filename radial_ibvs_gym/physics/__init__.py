@@ -1,9 +1,11 @@
 """The simulated robot and its world (no gymnasium import).
 
-Backends share one interface (``reset(pose)``, ``step(command, dt) -> StepResult``):
-``kinematic`` integrates the unicycle exactly. The pymunk backend (walls, obstacles, contact)
-follows.
+Backends share one interface (``reset(pose)``, ``step(command, dt) -> StepResult``, ``pose``,
+``velocity``, ``time``): ``pymunk`` simulates a rigid body with contacts against the walls,
+``kinematic`` integrates the unicycle exactly (the paper's simulations are kinematic).
 """
+
+from typing import Any
 
 from radial_ibvs_gym.physics.diffdrive import (
     RobotConfig,
@@ -12,13 +14,37 @@ from radial_ibvs_gym.physics.diffdrive import (
     wheels_to_twist,
 )
 from radial_ibvs_gym.physics.kinematic import KinematicWorld, StepResult, integrate_unicycle
+from radial_ibvs_gym.physics.pymunk_world import PymunkWorld
+
+BACKENDS = ("pymunk", "kinematic")
+
+
+def make_world(
+    backend: str, robot: RobotConfig, room: tuple[float, float], **kwargs: Any
+) -> KinematicWorld | PymunkWorld:
+    """Build a world of the named backend (``"pymunk"`` or ``"kinematic"``).
+
+    Raises
+    ------
+    ValueError
+        For an unknown backend (the message lists the valid ones).
+    """
+    if backend == "pymunk":
+        return PymunkWorld(robot, room, **kwargs)
+    if backend == "kinematic":
+        return KinematicWorld(robot, room, **kwargs)
+    raise ValueError(f"unknown physics {backend!r}; valid: {list(BACKENDS)}")
+
 
 __all__ = [
+    "BACKENDS",
     "KinematicWorld",
+    "PymunkWorld",
     "RobotConfig",
     "StepResult",
     "integrate_unicycle",
     "limit_command",
+    "make_world",
     "twist_to_wheels",
     "wheels_to_twist",
 ]

@@ -1,0 +1,154 @@
+"""The ``pymunk`` backend: a rigid robot body in a walled room, with contacts.
+
+The top-down pattern of pymunk's ``examples/tank.py``: a kinematic control body drags the
+robot's dynamic body through a ``PivotJoint`` (``max_bias = 0``: velocity only; ``max_force``
+acts as the floor's friction, so there is no lateral slip) and a ``GearJoint`` (the turn rate).
+Every physics sub-step sets the control body's velocity to the commanded ``(v, omega)`` along
+the robot's heading. Collisions with the walls are reported through ``space.on_collision``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import pymunk
+from numpy.typing import ArrayLike, NDArray
+
+from radial_ibvs_gym.geometry import wrap_angle
+from radial_ibvs_gym.physics.diffdrive import RobotConfig, limit_command
+from radial_ibvs_gym.physics.kinematic import StepResult
+
+__all__ = ["PymunkWorld"]
+
+ROBOT_TYPE, WALL_TYPE = 1, 2
+WALL_RADIUS = 0.05  #: metres
+
+
+def _touching(arbiter: pymunk.Arbiter, space: pymunk.Space, data: dict[str, Any]) -> None:
+    """Collision callback (module level, so the space pickles): flag the contact."""
+    data["touching"] = True
+
+
+class PymunkWorld:
+    """A differential-drive robot in a rectangular room, simulated by pymunk.
+
+    Parameters
+    ----------
+    robot
+        The robot's parameters (size, mass, limits).
+    room
+        ``(width, depth)`` of the room ``[0, width] x [0, depth]``, metres.
+    physics_dt
+        Physics sub-step, seconds; every control period must be a multiple of it.
+    """
+
+    def __init__(
+        self, robot: RobotConfig, room: tuple[float, float], physics_dt: float = 1.0 / 200.0
+    ) -> None:
+        w, d = (float(v) for v in room)
+        if not (w > 0 and d > 0 and math.isfinite(w) and math.isfinite(d)):
+            raise ValueError(f"room must be a positive (width, depth), got {room!r}")
+        if not (math.isfinite(physics_dt) and physics_dt > 0):
+            raise ValueError(f"physics_dt must be positive, got {physics_dt!r}")
+        self.robot = robot
+        self.room = (w, d)
+        self.physics_dt = float(physics_dt)
+        space = pymunk.Space()
+        space.gravity = (0.0, 0.0)
+        r = WALL_RADIUS
+        corners = [(-r, -r), (w + r, -r), (w + r, d + r), (-r, d + r)]
+        for a, b in zip(corners, corners[1:] + corners[:1], strict=True):
+            wall = pymunk.Segment(space.static_body, a, b, r)
+            wall.collision_type = WALL_TYPE
+            wall.friction = 0.5
+            space.add(wall)
+        body = pymunk.Body(
+            robot.mass, pymunk.moment_for_box(robot.mass, (robot.length, robot.width))
+        )
+        shape = pymunk.Poly.create_box(body, (robot.length, robot.width))
+        shape.collision_type = ROBOT_TYPE
+        shape.friction = 0.5
+        control = pymunk.Body(body_type=pymunk.Body.KINEMATIC)
+        pivot = pymunk.PivotJoint(control, body, (0.0, 0.0), (0.0, 0.0))
+        pivot.max_bias = 0.0  # no position correction: the joint transmits velocity only
+        pivot.max_force = 40.0 * robot.mass * 9.81  # floor friction (generous: no wheel slip)
+        gear = pymunk.GearJoint(control, body, 0.0, 1.0)
+        gear.error_bias = 0.0  # correct the angle error fully each step
+        gear.max_bias = 2.0 * robot.max_angular_speed
+        gear.max_force = 40.0 * robot.mass * 9.81
+        space.add(body, shape, control, pivot, gear)
+        self._contact: dict[str, Any] = {"touching": False}
+        space.on_collision(ROBOT_TYPE, WALL_TYPE, pre_solve=_touching, data=self._contact)
+        self.space, self._body, self._shape, self._control = space, body, shape, control
+        self._velocity = np.zeros(2)
+        self._time = 0.0
+        self._n_collisions = 0
+
+    @property
+    def pose(self) -> NDArray[np.float64]:
+        """Current pose ``(x, y, yaw)``, metres and radians in ``[-pi, pi)``."""
+        p = self._body.position
+        return np.array([p.x, p.y, float(wrap_angle(self._body.angle))])
+
+    @property
+    def velocity(self) -> NDArray[np.float64]:
+        """Velocity ``(v, omega)`` commanded over the last step (after the limits)."""
+        return self._velocity.copy()
+
+    @property
+    def time(self) -> float:
+        """Seconds simulated since the last reset."""
+        return self._time
+
+    def reset(self, pose: ArrayLike) -> None:
+        """Place the robot at rest at ``pose`` ``(x, y, yaw)``.
+
+        Raises
+        ------
+        ValueError
+            If the pose is not finite or the robot would overlap a wall there.
+        """
+        p = np.asarray(pose, dtype=np.float64)
+        if p.shape != (3,) or not np.isfinite(p).all():
+            raise ValueError(f"pose must be three finite numbers (x, y, yaw), got {pose!r}")
+        for body in (self._body, self._control):
+            body.position = (float(p[0]), float(p[1]))
+            body.angle = float(p[2])
+            body.velocity = (0.0, 0.0)
+            body.angular_velocity = 0.0
+        self.space.reindex_shapes_for_body(self._body)
+        if self.space.shape_query(self._shape):
+            raise ValueError(f"start pose {p.tolist()} puts the robot into a wall of the room")
+        self._velocity = np.zeros(2)
+        self._time = 0.0
+        self._n_collisions = 0
+
+    def step(self, command: ArrayLike, dt: float) -> StepResult:
+        """Apply ``(v, omega)`` (after the robot's limits) for ``dt`` seconds of sub-steps.
+
+        Raises
+        ------
+        ValueError
+            If ``dt`` is not a positive multiple of ``physics_dt``, or the command is not finite.
+        """
+        n = round(dt / self.physics_dt)
+        if n < 1 or abs(n * self.physics_dt - dt) > 1e-9:
+            raise ValueError(
+                f"dt={dt!r} s must be a positive multiple of physics_dt={self.physics_dt!r} s"
+            )
+        vel = limit_command(command, self._velocity, dt, self.robot)
+        v, omega = float(vel[0]), float(vel[1])
+        self._contact["touching"] = False
+        half = 0.5 * omega * self.physics_dt
+        for _ in range(n):
+            heading = self._body.angle + half  # mid-step heading: second-order accurate
+            self._control.velocity = (v * math.cos(heading), v * math.sin(heading))
+            self._control.angular_velocity = omega
+            self.space.step(self.physics_dt)
+        self._velocity = vel
+        self._time += dt
+        collision = bool(self._contact["touching"])
+        self._n_collisions += int(collision)
+        return StepResult(self.pose, vel.copy(), collision, self._n_collisions)
