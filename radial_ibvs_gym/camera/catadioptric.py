@@ -489,7 +489,7 @@ class CatadioptricCamera:
             out[name] = (s, mz_, wx_, wz_, float(ref))
         return out
 
-    def visible(self, points: ArrayLike) -> NDArray[np.bool_]:
+    def visible(self, points: ArrayLike, *, validate: bool = True) -> NDArray[np.bool_]:
         """Which points the camera sees (cheap: no root-finding for an on-axis camera).
 
         A point is visible when its reflection lies on the silvered part between the blind
@@ -503,22 +503,26 @@ class CatadioptricCamera:
         ----------
         points
             ``(..., N, 3)`` points in the camera frame, metres.
+        validate
+            Check the shape and finiteness of ``points`` (``False`` skips it on hot paths that
+            guarantee them, such as the environments' step).
 
         Returns
         -------
         numpy.ndarray
             ``(..., N)`` booleans.
         """
-        p = as_float_array(points, "points")
-        check_last_dim(p, 3, "points")
-        check_finite(p, "points")
+        p = np.asarray(points, dtype=np.float64)
+        if validate:
+            check_last_dim(p, 3, "points")
+            check_finite(p, "points")
         if self.imperfections.geometric or self.mirror.concave:
             return self.forward(p).visible
         rho = np.hypot(p[..., 0], p[..., 1])
         z = p[..., 2] + self.camera_z
-        ok = rho > 1e-12
+        ok: NDArray[np.bool_] = rho > 1e-12
         for s, mz, wx, wz, ref in self._boundary.values():
-            ok &= np.sign(wx * (z - mz) - wz * (rho - s)) == ref
+            ok &= (wx * (z - mz) - wz * (rho - s)) * ref > 0.0
         return ok
 
     def elevation_range(self) -> tuple[float, float]:

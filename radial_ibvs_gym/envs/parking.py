@@ -11,7 +11,7 @@ import numpy as np
 from gymnasium import spaces
 
 from radial_ibvs_gym.features import c_ij, pair_indices, virtual_point_weights
-from radial_ibvs_gym.geometry import wrap_angle
+from radial_ibvs_gym.geometry import wrap_angle, wrap_angle_scalar
 from radial_ibvs_gym.physics import BACKENDS, KinematicWorld, PymunkWorld, RobotConfig, make_world
 from radial_ibvs_gym.scenarios import Episode, Scenario, load_scenario
 
@@ -280,7 +280,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     def _observe(self, pose: np.ndarray) -> None:
         p_cam = self._to_camera(pose)
-        visible = self.scenario.camera.visible(p_cam)
+        visible = self.scenario.camera.visible(p_cam, validate=False)
         d = np.hypot(p_cam[:, 0], p_cam[:, 1])
         self._points = np.where(visible[:, None], p_cam[:, :2] / d[:, None], 0.0)
         self._visible = visible
@@ -291,7 +291,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         goal = self.episode.goal
         return (
             math.hypot(pose[0] - goal[0], pose[1] - goal[1]),
-            abs(float(wrap_angle(pose[2] - goal[2]))),
+            abs(wrap_angle_scalar(float(pose[2] - goal[2]))),
         )
 
     def _feature_errors(self) -> tuple[np.ndarray, np.ndarray]:

@@ -1,6 +1,6 @@
 """SE(2)/SE(3) helpers and angle wrapping (pure numpy)."""
 
-from radial_ibvs_gym.geometry.angles import wrap_angle
+from radial_ibvs_gym.geometry.angles import wrap_angle, wrap_angle_scalar
 from radial_ibvs_gym.geometry.se2 import world_to_camera
 from radial_ibvs_gym.geometry.transforms import (
     apply_twist_to_points,
@@ -24,4 +24,5 @@ __all__ = [
     "so3_exp",
     "world_to_camera",
     "wrap_angle",
+    "wrap_angle_scalar",
 ]

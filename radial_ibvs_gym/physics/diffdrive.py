@@ -114,14 +114,15 @@ def limit_command(
         If the command is NaN or infinite.
     """
     cmd = np.asarray(command, dtype=np.float64)
-    if cmd.shape != (2,) or not np.isfinite(cmd).all():
+    if cmd.shape != (2,) or not (math.isfinite(cmd[0]) and math.isfinite(cmd[1])):
         raise ValueError(f"command must be two finite numbers (v, omega), got {command!r}")
-    limits = np.array([config.max_linear_speed, config.max_angular_speed])
+    v, w = float(cmd[0]), float(cmd[1])
+    v_max, w_max = config.max_linear_speed, config.max_angular_speed
     if config.saturation == "scale":
-        factor = max(1.0, float(np.max(np.abs(cmd) / limits)))
-        cmd = cmd / factor
+        factor = max(1.0, abs(v) / v_max, abs(w) / w_max)
+        v, w = v / factor, w / factor
     else:
-        cmd = np.clip(cmd, -limits, limits)
-    step = dt * np.array([config.max_linear_accel, config.max_angular_accel])
-    prev = np.asarray(previous, dtype=np.float64)
-    return np.asarray(np.clip(cmd, prev - step, prev + step), dtype=np.float64)
+        v, w = min(max(v, -v_max), v_max), min(max(w, -w_max), w_max)
+    v0, w0 = np.asarray(previous, dtype=np.float64).tolist()
+    dv, dw = dt * config.max_linear_accel, dt * config.max_angular_accel
+    return np.array([min(max(v, v0 - dv), v0 + dv), min(max(w, w0 - dw), w0 + dw)])

@@ -12,7 +12,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from radial_ibvs_gym.geometry import wrap_angle
+from radial_ibvs_gym.geometry import wrap_angle_scalar
 from radial_ibvs_gym.physics.diffdrive import RobotConfig, limit_command
 
 __all__ = ["KinematicWorld", "StepResult", "integrate_unicycle"]
@@ -63,7 +63,7 @@ def integrate_unicycle(pose: ArrayLike, v: float, omega: float, dt: float) -> ND
     chord = v * dt * (math.sin(half) / half if abs(half) > 1e-12 else 1.0 - half * half / 6.0)
     x += chord * math.cos(th + half)
     y += chord * math.sin(th + half)
-    return np.array([x, y, float(wrap_angle(th + omega * dt))])
+    return np.array([x, y, wrap_angle_scalar(th + omega * dt)])
 
 
 class KinematicWorld:
@@ -83,8 +83,7 @@ class KinematicWorld:
             raise ValueError(f"room must be a positive (width, depth), got {room!r}")
         self.robot = robot
         self.room = (w, d)
-        half = 0.5 * np.array([robot.length, robot.width])
-        self._corners = np.array([[1, 1], [1, -1], [-1, -1], [-1, 1]]) * half  # body frame
+        self._half = (0.5 * robot.length, 0.5 * robot.width)
         self._pose = np.zeros(3)
         self._velocity = np.zeros(2)
         self._time = 0.0
@@ -107,12 +106,12 @@ class KinematicWorld:
 
     def colliding(self, pose: ArrayLike) -> bool:
         """Whether the robot's footprint at ``pose`` leaves the room."""
-        x, y, th = np.asarray(pose, dtype=np.float64)
-        c, s = math.cos(th), math.sin(th)
-        px = x + c * self._corners[:, 0] - s * self._corners[:, 1]
-        py = y + s * self._corners[:, 0] + c * self._corners[:, 1]
+        x, y, th = np.asarray(pose, dtype=np.float64).tolist()
+        c, s = abs(math.cos(th)), abs(math.sin(th))
+        hl, hw = self._half
+        ex, ey = c * hl + s * hw, s * hl + c * hw  # half extents of the rotated footprint
         w, d = self.room
-        return bool(px.min() < 0.0 or py.min() < 0.0 or px.max() > w or py.max() > d)
+        return x - ex < 0.0 or y - ey < 0.0 or x + ex > w or y + ey > d
 
     def reset(self, pose: ArrayLike) -> None:
         """Place the robot at rest at ``pose`` ``(x, y, yaw)``.
@@ -127,7 +126,7 @@ class KinematicWorld:
             raise ValueError(f"pose must be three finite numbers (x, y, yaw), got {pose!r}")
         if self.colliding(p):
             raise ValueError(f"start pose {p.tolist()} puts the robot into a wall of the room")
-        self._pose = np.array([p[0], p[1], float(wrap_angle(p[2]))])
+        self._pose = np.array([p[0], p[1], wrap_angle_scalar(float(p[2]))])
         self._velocity = np.zeros(2)
         self._time = 0.0
         self._n_collisions = 0
