@@ -34,6 +34,7 @@ type:
 
 bench:
 	$(BIN)/python benchmarks/bench_maths.py
+	$(BIN)/python benchmarks/bench_envs.py
 
 clean:
 	rm -rf $(VENV) build dist *.egg-info .pytest_cache .mypy_cache .ruff_cache .hypothesis outputs
