@@ -215,3 +215,22 @@ def test_goal_env_trains_with_sb3_her_smoke() -> None:
     model.learn(200)
     action, _ = model.predict(env.reset(seed=1)[0], deterministic=True)
     assert env.action_space.contains(action)
+
+
+def test_rgb_array_frames_show_the_robot_moving() -> None:
+    env = gym.make("RadialIBVS/Parking-v0", task=1, render_mode="rgb_array")
+    env.reset(seed=0)
+    first = env.render()
+    for _ in range(10):
+        env.step(np.array([1.0, 0.3], np.float32))
+    later = env.render()
+    assert first.shape == later.shape == (320, 640, 3) and first.dtype == np.uint8
+    assert (first != later).any()
+    env.close()
+
+
+def test_render_without_a_mode_warns_and_returns_none() -> None:
+    env = gym.make("RadialIBVS/Parking-v0").unwrapped
+    env.reset(seed=0)
+    with pytest.warns(UserWarning, match="render_mode"):
+        assert env.render() is None

@@ -97,7 +97,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     - v0: initial version.
     """
 
-    metadata: dict[str, Any] = {"render_modes": [], "render_fps": 10}  # noqa: RUF012
+    metadata: dict[str, Any] = {"render_modes": ["human", "rgb_array"], "render_fps": 10}  # noqa: RUF012
 
     def __init__(
         self,
@@ -184,6 +184,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             obs_spaces["alpha_m_error"] = spaces.Box(-np.pi, np.pi, (1,), np.float32)
         self.observation_space = spaces.Dict(obs_spaces)  # type: ignore[assignment]
 
+        self._renderer: Any = None
         self.world: KinematicWorld | PymunkWorld | None = None
         self.episode: Episode | None = None
         self._prev_errors: tuple[float, float] = (0.0, 0.0)
@@ -216,6 +217,10 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         terminated = bool(success or lost or (result.collision and self.terminate_on_collision))
         info = self._info(result.pose, pos_err, head_err, success, result.collision)
         info["reward_terms"] = terms
+        if self.render_mode is not None:
+            self._trail.append(result.pose[:2].copy())
+        if self.render_mode == "human":
+            self.render()
         return self._obs(), float(sum(terms.values())), terminated, False, info
 
     # --- reset ---------------------------------------------------------------------------------
@@ -259,9 +264,56 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             self._c_goal = c_ij(self._unit_or_dummy(self._goal_points, goal_visible))
         self._observe(episode.start)
         self._prev_errors = self._errors(episode.start)
+        self._renderer = None
+        self._trail: list[np.ndarray] = [episode.start[:2].copy()]
+        if self.render_mode == "human":
+            self.render()
         pos_err, head_err = self._prev_errors
         info = self._info(episode.start, pos_err, head_err, False, False)
         return self._obs(), info
+
+    # --- rendering -----------------------------------------------------------------------------
+    def render(self) -> np.ndarray | None:
+        """Render the room from above beside the omnidirectional image.
+
+        Returns
+        -------
+        numpy.ndarray or None
+            ``(H, W, 3)`` uint8 RGB for ``render_mode="rgb_array"``; ``None`` for ``"human"``
+            (shown in a matplotlib window) or when no render mode was set.
+        """
+        if self.render_mode is None:
+            gym.logger.warn("render() called without a render_mode; pass render_mode to make()")
+            return None
+        if self.world is None or self.episode is None:
+            raise RuntimeError("call reset() before render()")
+        if self._renderer is None:
+            from radial_ibvs_gym.envs.rendering import ParkingRenderer
+
+            size = (self.robot.length, self.robot.width)
+            self._renderer = ParkingRenderer(self.scenario, self.episode, size)
+        frame: np.ndarray = self._renderer.frame(self.world.pose, self._trail)
+        if self.render_mode == "rgb_array":
+            return frame
+        import matplotlib.pyplot as plt
+
+        if not hasattr(self, "_window"):
+            self._window = plt.figure("RadialIBVS")
+            self._image = self._window.add_subplot().imshow(frame)
+            self._window.axes[0].set_axis_off()
+        else:
+            self._image.set_data(frame)
+        plt.pause(1.0 / self.metadata["render_fps"])
+        return None
+
+    def close(self) -> None:
+        """Release the rendering resources."""
+        self._renderer = None
+        if hasattr(self, "_window"):
+            import matplotlib.pyplot as plt
+
+            plt.close(self._window)
+            del self._window
 
     # --- helpers -------------------------------------------------------------------------------
     def _to_camera(self, pose: np.ndarray) -> np.ndarray:
