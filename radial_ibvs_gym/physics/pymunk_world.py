@@ -16,7 +16,7 @@ import numpy as np
 import pymunk
 from numpy.typing import ArrayLike, NDArray
 
-from radial_ibvs_gym.geometry import wrap_angle
+from radial_ibvs_gym.geometry import wrap_angle_scalar
 from radial_ibvs_gym.physics.diffdrive import RobotConfig, limit_command
 from radial_ibvs_gym.physics.kinematic import StepResult
 
@@ -90,7 +90,7 @@ class PymunkWorld:
     def pose(self) -> NDArray[np.float64]:
         """Current pose ``(x, y, yaw)``, metres and radians in ``[-pi, pi)``."""
         p = self._body.position
-        return np.array([p.x, p.y, float(wrap_angle(self._body.angle))])
+        return np.array([p.x, p.y, wrap_angle_scalar(self._body.angle)])
 
     @property
     def velocity(self) -> NDArray[np.float64]:
@@ -142,11 +142,12 @@ class PymunkWorld:
         v, omega = float(vel[0]), float(vel[1])
         self._contact["touching"] = False
         half = 0.5 * omega * self.physics_dt
+        body, control, space, h = self._body, self._control, self.space, self.physics_dt
+        control.angular_velocity = omega
         for _ in range(n):
-            heading = self._body.angle + half  # mid-step heading: second-order accurate
-            self._control.velocity = (v * math.cos(heading), v * math.sin(heading))
-            self._control.angular_velocity = omega
-            self.space.step(self.physics_dt)
+            heading = body.angle + half  # mid-step heading: second-order accurate
+            control.velocity = (v * math.cos(heading), v * math.sin(heading))
+            space.step(h)
         self._velocity = vel
         self._time += dt
         collision = bool(self._contact["touching"])
