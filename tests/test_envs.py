@@ -234,3 +234,14 @@ def test_render_without_a_mode_warns_and_returns_none() -> None:
     env.reset(seed=0)
     with pytest.warns(UserWarning, match="render_mode"):
         assert env.render() is None
+
+
+@pytest.mark.parametrize("physics", ["pymunk", "kinematic"])
+def test_obstacle_collision_terminates(physics: str) -> None:
+    env = gym.make("RadialIBVS/Parking-v0", physics=physics, obstacles=[[5.0, 3.0, 0.4]])
+    env.reset(seed=0, options={"start": [3.0, 3.0, 0.0]})
+    for _ in range(60):
+        *_, terminated, _, info = env.step(np.array([0.8, 0.0], np.float32))
+        if terminated:
+            break
+    assert terminated and info["collision"]

@@ -72,3 +72,17 @@ def test_control_period_must_be_a_multiple_of_the_physics_step() -> None:
     world.reset([2.0, 2.0, 0.0])
     with pytest.raises(ValueError, match="multiple of physics_dt"):
         world.step([0.1, 0.0], 0.025)
+
+
+@pytest.mark.parametrize("backend", ["pymunk", "kinematic"])
+def test_obstacles_are_reported_and_pymunk_stops_at_them(backend: str) -> None:
+    world = make_world(backend, FREE, (10.0, 10.0), obstacles=((6.0, 5.0, 0.5),))
+    world.reset([3.0, 5.0, 0.0])
+    results = [world.step([1.0, 0.0], 0.1) for _ in range(40)]
+    assert any(r.collision for r in results)
+    if backend == "pymunk":  # stopped by the post: front edge at its surface
+        assert results[-1].pose[0] + FREE.length / 2 == pytest.approx(5.5, abs=0.02)
+    with pytest.raises(ValueError, match="obstacle"):
+        world.reset([6.0, 5.2, 0.0])
+    with pytest.raises(ValueError, match=r"obstacles\[0\] must be \(x, y, radius > 0\)"):
+        make_world(backend, FREE, (10.0, 10.0), obstacles=((1.0, 1.0, -0.5),))

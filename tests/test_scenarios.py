@@ -114,3 +114,13 @@ def test_task_out_of_range_and_overconstrained_scenarios(tmp_path: Path) -> None
         "tasks: [{start: [2, 2, 0], goal: [3, 3, 1]}]\n"
     )
     assert load_scenario(path).n_landmarks == 3
+
+
+def test_drawn_poses_keep_clear_of_obstacles() -> None:
+    s = load_scenario("random", obstacles=[[4.0, 4.0, 1.0], [2.0, 5.0, 0.5]])
+    for seed in range(30):
+        e = s.sample(np.random.default_rng(seed))
+        for pose in (e.start, e.goal):
+            assert math.hypot(pose[0] - 4.0, pose[1] - 4.0) >= 1.0 + s.config.wall_clearance
+    with pytest.raises(ValueError, match=r"obstacles\[0\] radius must be positive"):
+        load_scenario("random", obstacles=[[4.0, 4.0, 0.0]])

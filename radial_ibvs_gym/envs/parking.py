@@ -246,7 +246,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.episode = episode
         room = (float(episode.room[0]), float(episode.room[1]))
         extra = {"physics_dt": self.physics_dt} if self.physics == "pymunk" else {}
-        self.world = make_world(self.physics, self.robot, room, **extra)
+        obstacles = self.scenario.config.obstacles
+        self.world = make_world(self.physics, self.robot, room, obstacles=obstacles, **extra)
         self.world.reset(episode.start)
         self._goal_depths = self.scenario.goal_depths(episode)
         goal_cam = self.scenario.goal_camera

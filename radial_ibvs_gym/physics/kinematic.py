@@ -15,7 +15,20 @@ from numpy.typing import ArrayLike, NDArray
 from radial_ibvs_gym.geometry import wrap_angle_scalar
 from radial_ibvs_gym.physics.diffdrive import RobotConfig, limit_command
 
-__all__ = ["KinematicWorld", "StepResult", "integrate_unicycle"]
+__all__ = ["KinematicWorld", "StepResult", "check_obstacles", "integrate_unicycle"]
+
+
+def check_obstacles(
+    obstacles: tuple[tuple[float, float, float], ...],
+) -> tuple[tuple[float, float, float], ...]:
+    """Validate circular obstacles ``(x, y, radius)`` (metres) and return them as floats."""
+    out = []
+    for i, obstacle in enumerate(obstacles):
+        values = tuple(float(v) for v in obstacle)
+        if len(values) != 3 or not all(math.isfinite(v) for v in values) or values[2] <= 0:
+            raise ValueError(f"obstacles[{i}] must be (x, y, radius > 0), got {obstacle!r}")
+        out.append((values[0], values[1], values[2]))
+    return tuple(out)
 
 
 class StepResult(NamedTuple):
@@ -75,14 +88,22 @@ class KinematicWorld:
         The robot's parameters (limits apply to every command).
     room
         ``(width, depth)`` of the room ``[0, width] x [0, depth]``, metres.
+    obstacles
+        Circular obstacles ``(x, y, radius)``, metres.
     """
 
-    def __init__(self, robot: RobotConfig, room: tuple[float, float]) -> None:
+    def __init__(
+        self,
+        robot: RobotConfig,
+        room: tuple[float, float],
+        obstacles: tuple[tuple[float, float, float], ...] = (),
+    ) -> None:
         w, d = (float(v) for v in room)
         if not (w > 0 and d > 0 and math.isfinite(w) and math.isfinite(d)):
             raise ValueError(f"room must be a positive (width, depth), got {room!r}")
         self.robot = robot
         self.room = (w, d)
+        self.obstacles = check_obstacles(obstacles)
         self._half = (0.5 * robot.length, 0.5 * robot.width)
         self._pose = np.zeros(3)
         self._velocity = np.zeros(2)
@@ -105,13 +126,23 @@ class KinematicWorld:
         return self._time
 
     def colliding(self, pose: ArrayLike) -> bool:
-        """Whether the robot's footprint at ``pose`` leaves the room."""
+        """Whether the robot's footprint at ``pose`` leaves the room or overlaps an obstacle."""
         x, y, th = np.asarray(pose, dtype=np.float64).tolist()
         c, s = abs(math.cos(th)), abs(math.sin(th))
         hl, hw = self._half
         ex, ey = c * hl + s * hw, s * hl + c * hw  # half extents of the rotated footprint
         w, d = self.room
-        return x - ex < 0.0 or y - ey < 0.0 or x + ex > w or y + ey > d
+        if x - ex < 0.0 or y - ey < 0.0 or x + ex > w or y + ey > d:
+            return True
+        cos, sin = math.cos(th), math.sin(th)
+        for ox, oy, radius in self.obstacles:
+            # the obstacle's centre in the robot frame, clamped to the footprint
+            u = cos * (ox - x) + sin * (oy - y)
+            v = -sin * (ox - x) + cos * (oy - y)
+            du, dv = u - min(max(u, -hl), hl), v - min(max(v, -hw), hw)
+            if du * du + dv * dv < radius * radius:
+                return True
+        return False
 
     def reset(self, pose: ArrayLike) -> None:
         """Place the robot at rest at ``pose`` ``(x, y, yaw)``.
@@ -125,7 +156,9 @@ class KinematicWorld:
         if p.shape != (3,) or not np.isfinite(p).all():
             raise ValueError(f"pose must be three finite numbers (x, y, yaw), got {pose!r}")
         if self.colliding(p):
-            raise ValueError(f"start pose {p.tolist()} puts the robot into a wall of the room")
+            raise ValueError(
+                f"start pose {p.tolist()} puts the robot into a wall of the room or an obstacle"
+            )
         self._pose = np.array([p[0], p[1], wrap_angle_scalar(float(p[2]))])
         self._velocity = np.zeros(2)
         self._time = 0.0

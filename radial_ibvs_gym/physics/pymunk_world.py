@@ -4,7 +4,8 @@ The top-down pattern of pymunk's ``examples/tank.py``: a kinematic control body 
 robot's dynamic body through a ``PivotJoint`` (``max_bias = 0``: velocity only; ``max_force``
 acts as the floor's friction, so there is no lateral slip) and a ``GearJoint`` (the turn rate).
 Every physics sub-step sets the control body's velocity to the commanded ``(v, omega)`` along
-the robot's heading. Collisions with the walls are reported through ``space.on_collision``.
+the robot's heading. Collisions with the walls and obstacles are reported through
+``space.on_collision``.
 """
 
 from __future__ import annotations
@@ -18,7 +19,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from radial_ibvs_gym.geometry import wrap_angle_scalar
 from radial_ibvs_gym.physics.diffdrive import RobotConfig, limit_command
-from radial_ibvs_gym.physics.kinematic import StepResult
+from radial_ibvs_gym.physics.kinematic import StepResult, check_obstacles
 
 __all__ = ["PymunkWorld"]
 
@@ -40,12 +41,18 @@ class PymunkWorld:
         The robot's parameters (size, mass, limits).
     room
         ``(width, depth)`` of the room ``[0, width] x [0, depth]``, metres.
+    obstacles
+        Circular obstacles ``(x, y, radius)``, metres (static, like the walls).
     physics_dt
         Physics sub-step, seconds; every control period must be a multiple of it.
     """
 
     def __init__(
-        self, robot: RobotConfig, room: tuple[float, float], physics_dt: float = 1.0 / 200.0
+        self,
+        robot: RobotConfig,
+        room: tuple[float, float],
+        obstacles: tuple[tuple[float, float, float], ...] = (),
+        physics_dt: float = 1.0 / 200.0,
     ) -> None:
         w, d = (float(v) for v in room)
         if not (w > 0 and d > 0 and math.isfinite(w) and math.isfinite(d)):
@@ -64,6 +71,12 @@ class PymunkWorld:
             wall.collision_type = WALL_TYPE
             wall.friction = 0.5
             space.add(wall)
+        self.obstacles = check_obstacles(obstacles)
+        for ox, oy, radius in self.obstacles:
+            post = pymunk.Circle(space.static_body, radius, (ox, oy))
+            post.collision_type = WALL_TYPE
+            post.friction = 0.5
+            space.add(post)
         body = pymunk.Body(
             robot.mass, pymunk.moment_for_box(robot.mass, (robot.length, robot.width))
         )
@@ -120,7 +133,9 @@ class PymunkWorld:
             body.angular_velocity = 0.0
         self.space.reindex_shapes_for_body(self._body)
         if self.space.shape_query(self._shape):
-            raise ValueError(f"start pose {p.tolist()} puts the robot into a wall of the room")
+            raise ValueError(
+                f"start pose {p.tolist()} puts the robot into a wall of the room or an obstacle"
+            )
         self._velocity = np.zeros(2)
         self._time = 0.0
         self._n_collisions = 0

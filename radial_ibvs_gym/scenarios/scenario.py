@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Any, NamedTuple
 
@@ -120,8 +121,14 @@ class Scenario:
         return np.stack([x, y, z], axis=-1)
 
     def _inside(self, pose: np.ndarray, room: np.ndarray) -> bool:
+        """Whether ``pose`` is ``wall_clearance`` away from the walls and the obstacles."""
         c = self.config.wall_clearance
-        return bool(c <= pose[0] <= room[0] - c and c <= pose[1] <= room[1] - c)
+        if not (c <= pose[0] <= room[0] - c and c <= pose[1] <= room[1] - c):
+            return False
+        return all(
+            math.hypot(pose[0] - ox, pose[1] - oy) >= radius + c
+            for ox, oy, radius in self.config.obstacles
+        )
 
     def sample(self, rng: np.random.Generator, task: int | None = None) -> Episode:
         """Draw an episode.

@@ -132,6 +132,8 @@ class ScenarioConfig:
         ``random_room`` is set.
     random_room
         Draw the room size per episode instead.
+    obstacles
+        Circular obstacles ``[[x, y, radius], ...]`` on the floor, metres.
     landmarks
         Fixed landmarks ``[[x, y, z], ...]`` in the world frame, metres, unless
         ``random_landmarks`` is set.
@@ -161,6 +163,7 @@ class ScenarioConfig:
     description: str = ""
     room: tuple[float, float] = (10.0, 10.0)
     random_room: RandomRoom | None = None
+    obstacles: tuple[tuple[float, float, float], ...] = ()
     landmarks: tuple[tuple[float, float, float], ...] = ()
     random_landmarks: RandomLandmarks | None = None
     tasks: tuple[TaskSpec, ...] = ()
@@ -182,6 +185,9 @@ class ScenarioConfig:
             raise ValueError("a scenario needs at least one task (start and goal)")
         if bool(self.landmarks) == (self.random_landmarks is not None):
             raise ValueError("give exactly one of landmarks (fixed) and random_landmarks")
+        for i, (_, _, radius) in enumerate(self.obstacles):
+            if not (math.isfinite(radius) and radius > 0):
+                raise ValueError(f"obstacles[{i}] radius must be positive, got {radius!r}")
         for i, p in enumerate(self.landmarks):
             if not all(math.isfinite(v) for v in p):
                 raise ValueError(f"landmarks[{i}] must be finite, got {p!r}")
