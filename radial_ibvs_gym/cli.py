@@ -26,11 +26,13 @@ def build_parser() -> argparse.ArgumentParser:
 
     demo = sub.add_parser(
         "demo",
-        help="project the paper's eq. (39) scene through mirrors A and B and save a figure",
+        help="project the paper's scene through mirrors A and B, drive the robot; save figures",
         description=(
             "Project the 8 points of the paper's eq. (39) through its two hyperbolic mirrors "
             "(A and B) from the start pose and a goal pose of a parking task, check the radial "
-            "invariance (eq. 7 on the exact pixels equals eq. 9), and save a figure."
+            "invariance (eq. 7 on the exact pixels equals eq. 9), and save a figure; then drive "
+            "the robot of RadialIBVS/Parking-v0 (paper-sim) with random actions and save a "
+            "rendered frame next to it (<out>-episode.png)."
         ),
     )
     demo.add_argument(
@@ -62,10 +64,12 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Run ``radial-ibvs``; returns the process exit code."""
     args = build_parser().parse_args(argv)
     if args.command == "demo":
-        from radial_ibvs_gym.demo import run_demo
+        from radial_ibvs_gym.demo import run_demo, run_episode_demo
 
         path = run_demo(out=args.out, task=args.task, non_central_offset=args.non_central_offset)
         print(f"saved {path}")
+        episode = args.out.with_name(f"{args.out.stem}-episode.png")
+        print(f"saved {run_episode_demo(out=episode, task=args.task)}")
         return 0
     raise AssertionError(f"unhandled command {args.command!r}")  # argparse rejects unknown ones
 

@@ -21,7 +21,7 @@ from radial_ibvs_gym.geometry import world_to_camera
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
 
-__all__ = ["invariance_error", "run_demo"]
+__all__ = ["invariance_error", "run_demo", "run_episode_demo"]
 
 
 def invariance_error(camera: CatadioptricCamera, points_cam: np.ndarray) -> float:
@@ -183,3 +183,50 @@ def _draw_scene(ax: Axes, poses: dict[str, np.ndarray], colors: np.ndarray) -> N
     ax.set_xlabel("x [m]")
     ax.set_ylabel("y [m]")
     ax.set_title("scene of eq. (39) from above")
+
+
+def run_episode_demo(out: Path | str, task: int = 1, steps: int = 60, seed: int = 0) -> Path:
+    """Drive the robot of ``RadialIBVS/Parking-v0`` (paper-sim) with random actions; save a frame.
+
+    Parameters
+    ----------
+    out
+        Path of the picture (PNG).
+    task
+        Parking task 0..3.
+    steps
+        Number of control steps (0.1 s each).
+    seed
+        Seed of the episode and of the random actions.
+
+    Returns
+    -------
+    pathlib.Path
+        The path written.
+    """
+    import gymnasium as gym
+    import matplotlib.pyplot as plt
+
+    import radial_ibvs_gym  # noqa: F401  (registers the environments)
+
+    env = gym.make(
+        "RadialIBVS/Parking-v0", scenario="paper-sim", task=task, render_mode="rgb_array"
+    )
+    _, info = env.reset(seed=seed)
+    env.action_space.seed(seed)
+    total = 0.0
+    for _ in range(steps):
+        _, reward, terminated, truncated, info = env.step(env.action_space.sample())
+        total += float(reward)
+        if terminated or truncated:
+            break
+    frame = np.asarray(env.render())
+    env.close()
+    print(
+        f"random policy, paper-sim task {task}: {steps} steps, return {total:+.2f}, "
+        f"position error {info['position_error_m']:.2f} m, {info['n_visible']}/8 points visible"
+    )
+    out = Path(out)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    plt.imsave(out, frame)
+    return out

@@ -25,7 +25,10 @@ def test_demo_saves_a_png_and_reports_the_invariance(
     out = tmp_path / "sub" / "demo.png"
     assert main(["demo", "--out", str(out), "--task", "2"]) == 0
     assert out.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
+    episode = out.with_name("demo-episode.png")
+    assert episode.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     text = capsys.readouterr().out
+    assert "random policy, paper-sim task 2" in text
     assert "mirror A" in text and "mirror B" in text
     assert "8/8 points visible" in text
 
