@@ -11,8 +11,8 @@ import numpy as np
 from gymnasium import spaces
 
 from radial_ibvs_gym.features import c_ij, pair_indices, virtual_point_weights
-from radial_ibvs_gym.geometry import wrap_angle, wrap_angle_scalar
-from radial_ibvs_gym.physics import BACKENDS, KinematicWorld, PymunkWorld, RobotConfig, make_world
+from radial_ibvs_gym.geometry import world_to_camera, wrap_angle, wrap_angle_scalar
+from radial_ibvs_gym.physics import BACKENDS, RobotConfig, World, make_world
 from radial_ibvs_gym.scenarios import Episode, Scenario, load_scenario
 
 __all__ = ["ParkingEnv"]
@@ -185,7 +185,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.observation_space = spaces.Dict(obs_spaces)  # type: ignore[assignment]
 
         self._renderer: Any = None
-        self.world: KinematicWorld | PymunkWorld | None = None
+        self.world: World | None = None
         self.episode: Episode | None = None
         self._prev_errors: tuple[float, float] = (0.0, 0.0)
 
@@ -319,11 +319,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     # --- helpers -------------------------------------------------------------------------------
     def _to_camera(self, pose: np.ndarray) -> np.ndarray:
         assert self.episode is not None
-        lm = self.episode.landmarks
-        dx, dy = lm[:, 0] - pose[0], lm[:, 1] - pose[1]
-        c, s = math.cos(pose[2]), math.sin(pose[2])
         h = self.scenario.config.camera_height
-        return np.stack([c * dx + s * dy, -s * dx + c * dy, lm[:, 2] - h], axis=-1)
+        return world_to_camera(self.episode.landmarks, pose, h, validate=False)
 
     @staticmethod
     def _unit_or_dummy(points: np.ndarray, mask: np.ndarray) -> np.ndarray:

@@ -11,7 +11,7 @@ __all__ = ["world_to_camera"]
 
 
 def world_to_camera(
-    points_world: ArrayLike, pose: ArrayLike, camera_height: float
+    points_world: ArrayLike, pose: ArrayLike, camera_height: float, *, validate: bool = True
 ) -> NDArray[np.float64]:
     """Express world points in the camera frame of a robot at a planar pose.
 
@@ -27,6 +27,8 @@ def world_to_camera(
         ``(..., 3)`` robot poses ``(x, y, yaw)`` in metres and radians.
     camera_height
         Height of the camera's optical centre above the floor, metres.
+    validate
+        Check shapes and finiteness (``False`` skips it on hot paths that guarantee them).
 
     Returns
     -------
@@ -35,10 +37,11 @@ def world_to_camera(
     """
     p = as_float_array(points_world, "points_world")
     q = as_float_array(pose, "pose")
-    check_last_dim(p, 3, "points_world")
-    check_last_dim(q, 3, "pose")
-    check_finite(p, "points_world")
-    check_finite(q, "pose")
+    if validate:
+        check_last_dim(p, 3, "points_world")
+        check_last_dim(q, 3, "pose")
+        check_finite(p, "points_world")
+        check_finite(q, "pose")
     dx = p[..., 0] - q[..., None, 0]
     dy = p[..., 1] - q[..., None, 1]
     c, s = np.cos(q[..., None, 2]), np.sin(q[..., None, 2])

@@ -7,21 +7,20 @@ Backends share one interface (``reset(pose)``, ``step(command, dt) -> StepResult
 
 from typing import Any
 
+from radial_ibvs_gym.physics.base import StepResult, World
 from radial_ibvs_gym.physics.diffdrive import (
     RobotConfig,
     limit_command,
     twist_to_wheels,
     wheels_to_twist,
 )
-from radial_ibvs_gym.physics.kinematic import KinematicWorld, StepResult, integrate_unicycle
+from radial_ibvs_gym.physics.kinematic import KinematicWorld, integrate_unicycle
 from radial_ibvs_gym.physics.pymunk_world import PymunkWorld
 
 BACKENDS = ("pymunk", "kinematic")
 
 
-def make_world(
-    backend: str, robot: RobotConfig, room: tuple[float, float], **kwargs: Any
-) -> KinematicWorld | PymunkWorld:
+def make_world(backend: str, robot: RobotConfig, room: tuple[float, float], **kwargs: Any) -> World:
     """Build a world of the named backend (``"pymunk"`` or ``"kinematic"``).
 
     Raises
@@ -42,6 +41,7 @@ __all__ = [
     "PymunkWorld",
     "RobotConfig",
     "StepResult",
+    "World",
     "integrate_unicycle",
     "limit_command",
     "make_world",

@@ -18,8 +18,8 @@ import pymunk
 from numpy.typing import ArrayLike, NDArray
 
 from radial_ibvs_gym.geometry import wrap_angle_scalar
+from radial_ibvs_gym.physics.base import StepResult, World
 from radial_ibvs_gym.physics.diffdrive import RobotConfig, limit_command
-from radial_ibvs_gym.physics.kinematic import StepResult, check_obstacles
 
 __all__ = ["PymunkWorld"]
 
@@ -32,7 +32,7 @@ def _touching(arbiter: pymunk.Arbiter, space: pymunk.Space, data: dict[str, Any]
     data["touching"] = True
 
 
-class PymunkWorld:
+class PymunkWorld(World):
     """A differential-drive robot in a rectangular room, simulated by pymunk.
 
     Parameters
@@ -54,13 +54,10 @@ class PymunkWorld:
         obstacles: tuple[tuple[float, float, float], ...] = (),
         physics_dt: float = 1.0 / 200.0,
     ) -> None:
-        w, d = (float(v) for v in room)
-        if not (w > 0 and d > 0 and math.isfinite(w) and math.isfinite(d)):
-            raise ValueError(f"room must be a positive (width, depth), got {room!r}")
+        super().__init__(robot, room, obstacles)
         if not (math.isfinite(physics_dt) and physics_dt > 0):
             raise ValueError(f"physics_dt must be positive, got {physics_dt!r}")
-        self.robot = robot
-        self.room = (w, d)
+        w, d = self.room
         self.physics_dt = float(physics_dt)
         space = pymunk.Space()
         space.gravity = (0.0, 0.0)
@@ -71,7 +68,6 @@ class PymunkWorld:
             wall.collision_type = WALL_TYPE
             wall.friction = 0.5
             space.add(wall)
-        self.obstacles = check_obstacles(obstacles)
         for ox, oy, radius in self.obstacles:
             post = pymunk.Circle(space.static_body, radius, (ox, oy))
             post.collision_type = WALL_TYPE
@@ -95,37 +91,14 @@ class PymunkWorld:
         self._contact: dict[str, Any] = {"touching": False}
         space.on_collision(ROBOT_TYPE, WALL_TYPE, pre_solve=_touching, data=self._contact)
         self.space, self._body, self._shape, self._control = space, body, shape, control
-        self._velocity = np.zeros(2)
-        self._time = 0.0
-        self._n_collisions = 0
 
     @property
-    def pose(self) -> NDArray[np.float64]:
-        """Current pose ``(x, y, yaw)``, metres and radians in ``[-pi, pi)``."""
+    def pose(self) -> NDArray[np.float64]:  # noqa: D102
         p = self._body.position
         return np.array([p.x, p.y, wrap_angle_scalar(self._body.angle)])
 
-    @property
-    def velocity(self) -> NDArray[np.float64]:
-        """Velocity ``(v, omega)`` commanded over the last step (after the limits)."""
-        return self._velocity.copy()
-
-    @property
-    def time(self) -> float:
-        """Seconds simulated since the last reset."""
-        return self._time
-
-    def reset(self, pose: ArrayLike) -> None:
-        """Place the robot at rest at ``pose`` ``(x, y, yaw)``.
-
-        Raises
-        ------
-        ValueError
-            If the pose is not finite or the robot would overlap a wall there.
-        """
-        p = np.asarray(pose, dtype=np.float64)
-        if p.shape != (3,) or not np.isfinite(p).all():
-            raise ValueError(f"pose must be three finite numbers (x, y, yaw), got {pose!r}")
+    def reset(self, pose: ArrayLike) -> None:  # noqa: D102
+        p = self._check_pose(pose)
         for body in (self._body, self._control):
             body.position = (float(p[0]), float(p[1]))
             body.angle = float(p[2])
@@ -136,9 +109,7 @@ class PymunkWorld:
             raise ValueError(
                 f"start pose {p.tolist()} puts the robot into a wall of the room or an obstacle"
             )
-        self._velocity = np.zeros(2)
-        self._time = 0.0
-        self._n_collisions = 0
+        self._restart()
 
     def step(self, command: ArrayLike, dt: float) -> StepResult:
         """Apply ``(v, omega)`` (after the robot's limits) for ``dt`` seconds of sub-steps.
@@ -163,8 +134,4 @@ class PymunkWorld:
             heading = body.angle + half  # mid-step heading: second-order accurate
             control.velocity = (v * math.cos(heading), v * math.sin(heading))
             space.step(h)
-        self._velocity = vel
-        self._time += dt
-        collision = bool(self._contact["touching"])
-        self._n_collisions += int(collision)
-        return StepResult(self.pose, vel.copy(), collision, self._n_collisions)
+        return self._finish_step(vel, dt, bool(self._contact["touching"]))
