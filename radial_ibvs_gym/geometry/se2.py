@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -42,7 +44,14 @@ def world_to_camera(
         check_last_dim(q, 3, "pose")
         check_finite(p, "points_world")
         check_finite(q, "pose")
-    dx = p[..., 0] - q[..., None, 0]
-    dy = p[..., 1] - q[..., None, 1]
-    c, s = np.cos(q[..., None, 2]), np.sin(q[..., None, 2])
+    c: float | NDArray[np.float64]
+    s: float | NDArray[np.float64]
+    if q.ndim == 1:  # one pose: scalar trigonometry (the environments' hot path)
+        x, y, yaw = q.tolist()
+        c, s = math.cos(yaw), math.sin(yaw)
+        dx, dy = p[..., 0] - x, p[..., 1] - y
+    else:
+        dx = p[..., 0] - q[..., None, 0]
+        dy = p[..., 1] - q[..., None, 1]
+        c, s = np.cos(q[..., None, 2]), np.sin(q[..., None, 2])
     return np.stack([c * dx + s * dy, -s * dx + c * dy, p[..., 2] - camera_height], axis=-1)
