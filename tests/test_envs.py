@@ -245,3 +245,22 @@ def test_obstacle_collision_terminates(physics: str) -> None:
         if terminated:
             break
     assert terminated and info["collision"]
+
+
+def test_wheel_actions_drive_like_the_equivalent_twist() -> None:
+    wheels = gym.make("RadialIBVS/Parking-v0", physics="kinematic", action_type="wheels")
+    twist = gym.make("RadialIBVS/Parking-v0", physics="kinematic")
+    wheels.reset(seed=0)
+    twist.reset(seed=0)
+    for _ in range(10):
+        # equal wheel speeds at half scale: straight ahead at half the top speed
+        *_, info_w = wheels.step(np.array([0.5, 0.5], np.float32))
+        *_, info_t = twist.step(np.array([0.5, 0.0], np.float32))
+    np.testing.assert_allclose(info_w["robot_pose"], info_t["robot_pose"], atol=1e-12)
+    _, info = wheels.reset(seed=0)
+    *_, info = wheels.step(np.array([-0.2, 0.2], np.float32))  # turn in place, to the left
+    assert info["robot_pose"][2] > 0 and info["position_error_m"] == pytest.approx(
+        math.hypot(4.0, 4.0)
+    )
+    with pytest.raises(ValueError, match="unknown action_type 'tracks'"):
+        gym.make("RadialIBVS/Parking-v0", action_type="tracks")

@@ -12,7 +12,7 @@ from gymnasium import spaces
 
 from radial_ibvs_gym.features import c_ij, pair_indices, virtual_point_weights
 from radial_ibvs_gym.geometry import world_to_camera, wrap_angle, wrap_angle_scalar
-from radial_ibvs_gym.physics import BACKENDS, RobotConfig, World, make_world
+from radial_ibvs_gym.physics import BACKENDS, RobotConfig, World, make_world, wheels_to_twist
 from radial_ibvs_gym.scenarios import Episode, Scenario, load_scenario
 
 __all__ = ["ParkingEnv"]
@@ -37,8 +37,10 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | 0 | linear speed | ``v = a0 * max_linear_speed`` (m/s) |
     | 1 | angular speed | ``omega = a1 * max_angular_speed`` (rad/s) |
 
-    Values are clipped to ``[-1, 1]``; a NaN or infinite action raises ``ValueError``. The
-    robot's speed and acceleration limits then apply (``RobotConfig``).
+    With ``action_type="wheels"`` the two values are the left and right wheel speeds instead,
+    in units of the wheel speed that gives ``max_linear_speed``. Values are clipped to
+    ``[-1, 1]``; a NaN or infinite action raises ``ValueError``. The robot's speed and
+    acceleration limits then apply (``RobotConfig``).
 
     ## Observation Space
     A ``Dict`` (``N`` landmarks, ``M = N (N - 1) / 2``):
@@ -79,6 +81,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | ``physics`` | ``"pymunk"`` | ``"pymunk"`` (contacts) or ``"kinematic"`` (exact unicycle) |
     | ``physics_dt`` | ``0.01`` | pymunk sub-step, seconds (``control_dt`` is a multiple) |
     | ``obs_mode`` | ``"points"`` | ``"points"`` or ``"features"`` |
+    | ``action_type`` | ``"twist"`` | ``"twist"`` ``(v, omega)`` or ``"wheels"`` (left, right) |
     | ``control_dt`` | ``0.1`` | control period, seconds |
     | ``success_position_m`` / ``success_heading_deg`` | ``0.02`` / ``2.0`` | success tolerances |
     | ``min_visible`` | ``3`` | fewer visible landmarks terminate the episode |
@@ -106,6 +109,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         physics: Literal["pymunk", "kinematic"] = "pymunk",
         physics_dt: float = 0.01,
         obs_mode: Literal["points", "features"] = "points",
+        action_type: Literal["twist", "wheels"] = "twist",
         control_dt: float = 0.1,
         success_position_m: float = 0.02,
         success_heading_deg: float = 2.0,
@@ -124,6 +128,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             raise ValueError(f"unknown physics {physics!r}; valid: {list(BACKENDS)}")
         if obs_mode not in OBS_MODES:
             raise ValueError(f"unknown obs_mode {obs_mode!r}; valid: {list(OBS_MODES)}")
+        if action_type not in ("twist", "wheels"):
+            raise ValueError(f"unknown action_type {action_type!r}; valid: ['twist', 'wheels']")
         for name, value in (
             ("control_dt", control_dt),
             ("physics_dt", physics_dt),
@@ -146,6 +152,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.task = task
         self.physics = physics
         self.obs_mode = obs_mode
+        self.action_type = action_type
         self.control_dt = float(control_dt)
         self.physics_dt = float(physics_dt)
         if (
@@ -169,7 +176,10 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         }
         self.render_mode = render_mode
         self.robot = RobotConfig.from_dict(dict(self.scenario.config.robot))
-        self._scale = np.array([self.robot.max_linear_speed, self.robot.max_angular_speed])
+        if action_type == "twist":
+            self._scale = np.array([self.robot.max_linear_speed, self.robot.max_angular_speed])
+        else:  # wheel angular speeds, full scale = the wheel speed of the top linear speed
+            self._scale = np.full(2, self.robot.max_linear_speed / self.robot.wheel_radius)
         self._pairs = pair_indices(n)
 
         self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
@@ -199,7 +209,10 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         a = np.asarray(action, dtype=np.float64).reshape(-1)
         if a.shape != (2,) or not np.isfinite(a).all():
             raise ValueError(f"action must be two finite numbers in [-1, 1], got {action!r}")
-        result = self.world.step(np.clip(a, -1.0, 1.0) * self._scale, self.control_dt)
+        command = np.clip(a, -1.0, 1.0) * self._scale
+        if self.action_type == "wheels":
+            command = wheels_to_twist(command, self.robot)
+        result = self.world.step(command, self.control_dt)
         self._observe(result.pose)
         pos_err, head_err = self._errors(result.pose)
         success = pos_err <= self.success_position_m and head_err <= self.success_heading_rad
