@@ -264,3 +264,38 @@ def test_wheel_actions_drive_like_the_equivalent_twist() -> None:
     )
     with pytest.raises(ValueError, match="unknown action_type 'tracks'"):
         gym.make("RadialIBVS/Parking-v0", action_type="tracks")
+
+
+def test_camera_imperfections_reach_the_observations() -> None:
+    """The paper-a-imperfect camera (0.5 px noise, 2 px principal-point offset, 1 % rho_f)."""
+    imperfect = {"mirror": "A", "non_central_offset": 0.01}
+    imperfect["imperfections"] = {
+        "principal_point_offset": [2.0, -1.5],
+        "focal_ratio_error": 0.01,
+        "pixel_noise_std": 0.5,
+    }
+    ideal_env = gym.make("RadialIBVS/Parking-v0", task=0)
+    a = gym.make("RadialIBVS/Parking-v0", task=0, camera=imperfect)
+    b = gym.make("RadialIBVS/Parking-v0", task=0, camera=imperfect)
+    ideal, _ = ideal_env.reset(seed=3)
+    obs_a, _ = a.reset(seed=3)
+    obs_b, _ = b.reset(seed=3)
+    np.testing.assert_array_equal(obs_a["points"], obs_b["points"])  # seeded noise
+    err = np.abs(obs_a["points"] - ideal["points"]).max()
+    assert 1e-5 < err < 0.05  # a few pixels on a ~400 px image radius: milliradians
+    np.testing.assert_allclose(
+        np.linalg.norm(obs_a["points"].reshape(-1, 2), axis=-1), 1.0, atol=1e-6
+    )
+    step_a = a.step(np.zeros(2, np.float32))[0]
+    assert (step_a["points"] != obs_a["points"]).any()  # fresh noise every step
+
+
+def test_human_render_mode_runs_headless() -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")  # no display in CI: the window is drawn off-screen
+    env = gym.make("RadialIBVS/Parking-v0", render_mode="human")
+    env.reset(seed=0)
+    assert env.step(np.zeros(2, np.float32))[0] is not None
+    assert env.render() is None
+    env.close()

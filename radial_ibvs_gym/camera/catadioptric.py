@@ -70,6 +70,11 @@ class Imperfections:
             raise ValueError(f"pixel_noise_std must be >= 0, got {self.pixel_noise_std!r}")
 
     @property
+    def any(self) -> bool:
+        """True when any imperfection is set (the camera differs from its nominal model)."""
+        return self != Imperfections()
+
+    @property
     def geometric(self) -> bool:
         """True when the camera is tilted or off the mirror axis (the radial model breaks)."""
         return any(v != 0.0 for v in (*self.tilt, *self.axis_offset))

@@ -10,6 +10,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
+from radial_ibvs_gym.camera import CatadioptricCamera, normalise_pixels
 from radial_ibvs_gym.features import c_ij, pair_indices, virtual_point_weights
 from radial_ibvs_gym.geometry import world_to_camera, wrap_angle, wrap_angle_scalar
 from radial_ibvs_gym.physics import BACKENDS, RobotConfig, World, make_world, wheels_to_twist
@@ -263,16 +264,13 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.world = make_world(self.physics, self.robot, room, obstacles=obstacles, **extra)
         self.world.reset(episode.start)
         self._goal_depths = self.scenario.goal_depths(episode)
-        goal_cam = self.scenario.goal_camera
-        p_goal = self._to_camera(episode.goal)
-        goal_visible = goal_cam.visible(p_goal)
+        goal_points, goal_visible = self._image(episode.goal, self.scenario.goal_camera)
         if goal_visible.sum() < self.min_visible:
             raise ValueError(
                 f"only {int(goal_visible.sum())} landmarks are visible at the goal "
                 f"{episode.goal.tolist()}; at least {self.min_visible} are needed"
             )
-        d_goal = np.hypot(p_goal[:, 0], p_goal[:, 1])
-        self._goal_points = (p_goal[:, :2] / d_goal[:, None]) * goal_visible[:, None]
+        self._goal_points = goal_points
         self._goal_visible = goal_visible
         if self.obs_mode == "features":
             self._c_goal = c_ij(self._unit_or_dummy(self._goal_points, goal_visible))
@@ -313,10 +311,10 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
         if not hasattr(self, "_window"):
             self._window = plt.figure("RadialIBVS")
-            self._image = self._window.add_subplot().imshow(frame)
+            self._window_image = self._window.add_subplot().imshow(frame)
             self._window.axes[0].set_axis_off()
         else:
-            self._image.set_data(frame)
+            self._window_image.set_data(frame)
         plt.pause(1.0 / self.metadata["render_fps"])
         return None
 
@@ -341,13 +339,28 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         # pairs with a hidden point are masked out afterwards
         return np.where(mask[:, None], points, np.array([1.0, 0.0]))
 
-    def _observe(self, pose: np.ndarray) -> None:
+    def _image(self, pose: np.ndarray, camera: CatadioptricCamera) -> tuple[np.ndarray, np.ndarray]:
+        """Normalised image points ``(N, 2)`` (zeros where hidden) and visibility ``(N,)``.
+
+        An ideal camera gives eq. (9) exactly, so the points come straight from the 3D
+        geometry. A camera with imperfections is simulated as the paper's set-up measures: exact
+        projection through the mirror with the true intrinsics, tilt and offset, pixel noise
+        from ``np_random``, then eq. (7) with the *nominal* principal point and ``rho_f``.
+        """
         p_cam = self._to_camera(pose)
-        visible = self.scenario.camera.visible(p_cam, validate=False)
-        d = np.hypot(p_cam[:, 0], p_cam[:, 1])
-        self._points = np.where(visible[:, None], p_cam[:, :2] / d[:, None], 0.0)
-        self._visible = visible
-        self._n_visible = int(visible.sum())
+        if not camera.imperfections.any:
+            visible = camera.visible(p_cam, validate=False)
+            d = np.hypot(p_cam[:, 0], p_cam[:, 1])
+            return np.where(visible[:, None], p_cam[:, :2] / d[:, None], 0.0), visible
+        proj = camera.forward(p_cam, rng=self.np_random)
+        k = camera.intrinsics
+        pixels = np.where(proj.visible[:, None], proj.pixels, k.principal_point + 1.0)
+        x_n = normalise_pixels(pixels, k.principal_point, k.rho_f)
+        return np.where(proj.visible[:, None], x_n, 0.0), proj.visible
+
+    def _observe(self, pose: np.ndarray) -> None:
+        self._points, self._visible = self._image(pose, self.scenario.camera)
+        self._n_visible = int(self._visible.sum())
 
     def _errors(self, pose: np.ndarray) -> tuple[float, float]:
         assert self.episode is not None
