@@ -1,8 +1,10 @@
 """Reference and learned policies for the radial IBVS parking tasks.
 
-Every policy implements stable-baselines3's ``predict(observation, state=None,
-episode_start=None, deterministic=True) -> (action, state)``. The controllers land with the
-controller issue; this package is installed with the project so the import path is stable.
+Every policy will implement stable-baselines3's ``predict(observation, state=None,
+episode_start=None, deterministic=True) -> (action, state)``. So far: the smooth control law
+(Park & Kuipers 2011, the paper's eq. 38) that the IBVS controller and the pose oracle share.
 """
 
-__all__: list[str] = []
+from agents.smooth_control import SmoothControlLaw, curvature, ego_polar
+
+__all__ = ["SmoothControlLaw", "curvature", "ego_polar"]
