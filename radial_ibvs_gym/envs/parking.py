@@ -210,7 +210,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         a = np.asarray(action, dtype=np.float64).reshape(-1)
         if a.shape != (2,) or not np.isfinite(a).all():
             raise ValueError(f"action must be two finite numbers in [-1, 1], got {action!r}")
-        command = np.clip(a, -1.0, 1.0) * self._scale
+        command = np.minimum(np.maximum(a, -1.0), 1.0) * self._scale
         if self.action_type == "wheels":
             command = wheels_to_twist(command, self.robot)
         result = self.world.step(command, self.control_dt)
@@ -351,7 +351,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         if not camera.imperfections.any:
             visible = camera.visible(p_cam, validate=False)
             d = np.hypot(p_cam[:, 0], p_cam[:, 1])
-            return np.where(visible[:, None], p_cam[:, :2] / d[:, None], 0.0), visible
+            return p_cam[:, :2] * (visible / d)[:, None], visible
         proj = camera.forward(p_cam, rng=self.np_random)
         k = camera.intrinsics
         pixels = np.where(proj.visible[:, None], proj.pixels, k.principal_point + 1.0)
