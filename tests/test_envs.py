@@ -299,3 +299,14 @@ def test_human_render_mode_runs_headless() -> None:
     assert env.step(np.zeros(2, np.float32))[0] is not None
     assert env.render() is None
     env.close()
+
+
+def test_privileged_observation_passes_the_checkers_and_wraps_the_goal_yaw() -> None:
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        check_env(gym.make("RadialIBVS/Parking-v0", privileged=True).unwrapped)
+        sb3_check_env(gym.make("RadialIBVS/Parking-v0", privileged=True).unwrapped)
+    env = gym.make("RadialIBVS/Parking-v0", privileged=True, task=3)
+    obs, info = env.reset(seed=0)
+    np.testing.assert_allclose(obs["goal_pose"], [7.0, 7.0, -math.pi / 2])  # 270 deg wrapped
+    np.testing.assert_array_equal(obs["robot_pose"], info["robot_pose"])

@@ -56,6 +56,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     (1) zeros where the landmark is not visible. (2) ``obs_mode="features"`` only; 0 for pairs
     with a hidden point; ``alpha_m`` uses the virtual point of the visible landmarks.
+    With ``privileged=True`` the true ``robot_pose`` and ``goal_pose`` ``(x, y, yaw)`` (metres,
+    radians, world frame) are added: for the pose oracle, never for a vision-based policy.
 
     ## Rewards
     ``r = progress + heading + time + collision + lost + success`` (named in
@@ -83,6 +85,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | ``physics_dt`` | ``0.01`` | pymunk sub-step, seconds (``control_dt`` is a multiple) |
     | ``obs_mode`` | ``"points"`` | ``"points"`` or ``"features"`` |
     | ``action_type`` | ``"twist"`` | ``"twist"`` ``(v, omega)`` or ``"wheels"`` (left, right) |
+    | ``privileged`` | ``False`` | add the true poses to the observation (pose oracle) |
     | ``control_dt`` | ``0.1`` | control period, seconds |
     | ``success_position_m`` / ``success_heading_deg`` | ``0.02`` / ``2.0`` | success tolerances |
     | ``min_visible`` | ``3`` | fewer visible landmarks terminate the episode |
@@ -111,6 +114,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         physics_dt: float = 0.01,
         obs_mode: Literal["points", "features"] = "points",
         action_type: Literal["twist", "wheels"] = "twist",
+        privileged: bool = False,
         control_dt: float = 0.1,
         success_position_m: float = 0.02,
         success_heading_deg: float = 2.0,
@@ -154,6 +158,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.physics = physics
         self.obs_mode = obs_mode
         self.action_type = action_type
+        self.privileged = bool(privileged)
         self.control_dt = float(control_dt)
         self.physics_dt = float(physics_dt)
         if (
@@ -193,6 +198,11 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             m = len(self._pairs[0])
             obs_spaces["c_error"] = spaces.Box(-2.0, 2.0, (m,), np.float32)
             obs_spaces["alpha_m_error"] = spaces.Box(-np.pi, np.pi, (1,), np.float32)
+        if privileged:
+            bound = np.array([1e3, 1e3, np.pi])  # metres, metres, radians (yaw wrapped)
+            pose_space = spaces.Box(-bound, bound, (3,), np.float64)
+            obs_spaces["robot_pose"] = pose_space
+            obs_spaces["goal_pose"] = pose_space
         self.observation_space = spaces.Dict(obs_spaces)  # type: ignore[assignment]
 
         self._renderer: Any = None
@@ -257,7 +267,9 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
                 episode = (
                     episode._replace(start=pose) if key == "start" else episode._replace(goal=pose)
                 )
-        self.episode = episode
+        goal = episode.goal.astype(np.float64).copy()
+        goal[2] = wrap_angle_scalar(float(goal[2]))
+        self.episode = episode = episode._replace(goal=goal)
         room = (float(episode.room[0]), float(episode.room[1]))
         extra = {"physics_dt": self.physics_dt} if self.physics == "pymunk" else {}
         obstacles = self.scenario.config.obstacles
@@ -391,7 +403,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         return c_err, np.array([alpha_err])
 
     def _obs(self) -> dict[str, np.ndarray]:
-        obs = {
+        obs: dict[str, np.ndarray] = {
             "points": self._points.astype(np.float32).reshape(-1),
             "goal_points": self._goal_points.astype(np.float32).reshape(-1),
             "visible": self._visible.astype(np.float32),
@@ -400,6 +412,10 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             c_err, a_err = self._feature_errors()
             obs["c_error"] = np.clip(c_err, -2.0, 2.0).astype(np.float32)
             obs["alpha_m_error"] = a_err.astype(np.float32)
+        if self.privileged:
+            assert self.world is not None and self.episode is not None
+            obs["robot_pose"] = self.world.pose
+            obs["goal_pose"] = self.episode.goal.astype(np.float64)
         return obs
 
     def _info(
