@@ -310,3 +310,12 @@ def test_privileged_observation_passes_the_checkers_and_wraps_the_goal_yaw() -> 
     obs, info = env.reset(seed=0)
     np.testing.assert_allclose(obs["goal_pose"], [7.0, 7.0, -math.pi / 2])  # 270 deg wrapped
     np.testing.assert_array_equal(obs["robot_pose"], info["robot_pose"])
+
+
+def test_feature_observation_at_the_goal_position_measures_the_rotation() -> None:
+    """At the goal position turned by gamma: c*_ij - c_ij = 0 and alpha_m* - alpha_m = gamma."""
+    env = gym.make("RadialIBVS/Parking-v0", obs_mode="features", task=0)
+    gamma = 0.3
+    obs, _ = env.reset(seed=0, options={"start": [7.0, 7.0, gamma]})
+    np.testing.assert_allclose(obs["c_error"], 0.0, atol=1e-6)
+    assert float(obs["alpha_m_error"][0]) == pytest.approx(gamma, abs=1e-6)

@@ -12,7 +12,7 @@ from gymnasium import spaces
 
 from radial_ibvs_gym.camera import CatadioptricCamera, normalise_pixels
 from radial_ibvs_gym.features import c_ij, pair_indices, virtual_point_weights
-from radial_ibvs_gym.geometry import world_to_camera, wrap_angle, wrap_angle_scalar
+from radial_ibvs_gym.geometry import world_to_camera, wrap_angle_scalar
 from radial_ibvs_gym.physics import BACKENDS, RobotConfig, World, make_world, wheels_to_twist
 from radial_ibvs_gym.scenarios import Episode, Scenario, load_scenario
 
@@ -286,6 +286,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._goal_visible = goal_visible
         if self.obs_mode == "features":
             self._c_goal = c_ij(self._unit_or_dummy(self._goal_points, goal_visible))
+            self._weights_cache: dict[bytes, np.ndarray | None] = {}
         self._observe(episode.start)
         self._prev_errors = self._errors(episode.start)
         self._renderer = None
@@ -389,18 +390,25 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         c_now = c_ij(self._unit_or_dummy(self._points, both))
         c_err = np.where(pair_ok, self._c_goal - c_now, 0.0)
         alpha_err = 0.0
-        if both.sum() >= 2:
-            goal = self._goal_points[both]
-            try:
-                a = virtual_point_weights(goal)
-            except ValueError:  # goal points collinear with the axis: no virtual point
-                a = None
-            if a is not None:
-                p_goal, p_now = a @ goal, a @ self._points[both]
-                alpha_err = float(
-                    wrap_angle(math.atan2(p_goal[1], p_goal[0]) - math.atan2(p_now[1], p_now[0]))
-                )
+        a = self._weights_for(both)
+        if a is not None:
+            # the virtual point of the goal image is (1, 0) by construction (eq. 27-29)
+            p_now = a @ self._points[both]
+            alpha_err = wrap_angle_scalar(-math.atan2(p_now[1], p_now[0]))
         return c_err, np.array([alpha_err])
+
+    def _weights_for(self, mask: np.ndarray) -> np.ndarray | None:
+        """Virtual-point weights (eq. 27-29) of the goal points in ``mask``, cached per mask."""
+        key = mask.tobytes()
+        if key not in self._weights_cache:
+            a = None
+            if mask.sum() >= 2:
+                try:
+                    a = virtual_point_weights(self._goal_points[mask])
+                except ValueError:  # goal points collinear with the axis: no virtual point
+                    a = None
+            self._weights_cache[key] = a
+        return self._weights_cache[key]
 
     def _obs(self) -> dict[str, np.ndarray]:
         obs: dict[str, np.ndarray] = {
