@@ -29,7 +29,7 @@ from numpy.typing import NDArray
 from radial_ibvs_gym.features import L_alpha_m, L_cij, alpha_m, c_ij, virtual_point_weights
 from radial_ibvs_gym.geometry import rot2, wrap_angle_scalar
 
-__all__ = ["GoalModel", "ibvs_twist"]
+__all__ = ["GoalModel", "ibvs_twist", "robot_command"]
 
 
 @dataclass(frozen=True)
@@ -119,3 +119,53 @@ def ibvs_twist(
     gamma = omega_z / lam
     v = -(rot2(gamma) @ v_star)
     return v, omega_z, gamma
+
+
+def robot_command(
+    v: NDArray[np.float64],
+    gamma: float,
+    lam: float,
+    k1: float = 4.0,
+    k2: float = 12.0,
+    v_max: float = 1.2,
+    omega_max: float = 5.235987755982989,
+) -> tuple[float, float]:
+    """Robot speeds ``(v_l, omega)`` from the IBVS camera velocity, through eq. (38).
+
+    The camera velocity defines a virtual target in the robot frame: distance
+    ``r = |v| / lambda``, direction ``delta = atan2(v_y, v_x)``, orientation ``gamma`` relative
+    to the robot (Section 4: ``v_l / r = lambda``). The smooth control law's curvature towards
+    that target (nav2's conventions, :mod:`agents.smooth_control`) gives ``omega = kappa v_l``
+    with ``v_l = |v|``; speed limits scale ``v_l`` and ``omega`` together, keeping the curvature
+    (so the path does not depend on them).
+
+    Parameters
+    ----------
+    v
+        ``(2,)`` camera velocity in the current frame, m/s (camera on the robot's axis).
+    gamma
+        Estimated rotation to the goal orientation, radians.
+    lam
+        The IBVS gain, 1/s.
+    k1, k2
+        Gains of eq. (38) (the paper's simulations: 4 and 12).
+    v_max, omega_max
+        Speed limits, m/s and rad/s.
+
+    Returns
+    -------
+    tuple of float
+        ``(v_l, omega)``; zero when ``|v|`` vanishes.
+    """
+    from agents.smooth_control import curvature, ego_polar
+
+    v_l = float(np.hypot(v[0], v[1]))
+    if v_l <= 1e-12:
+        return 0.0, 0.0
+    r = v_l / lam
+    delta = float(np.arctan2(v[1], v[0]))
+    target = (r * np.cos(delta), r * np.sin(delta), gamma)
+    kappa = float(curvature(*ego_polar(target), k1, k2))
+    omega = kappa * v_l
+    factor = max(1.0, v_l / v_max, abs(omega) / omega_max)
+    return v_l / factor, omega / factor
