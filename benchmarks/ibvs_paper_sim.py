@@ -8,10 +8,10 @@ success test (2 cm, 2 deg).
 from __future__ import annotations
 
 import gymnasium as gym
-import numpy as np
 
 import radial_ibvs_gym  # noqa: F401
-from agents.ibvs_core import GoalModel, ibvs_twist, robot_command
+from agents.ibvs_core import drive
+from radial_ibvs_gym.physics import RobotConfig
 
 
 def run(task: int, depth_scale: float, lam: float = 0.5) -> tuple[dict, float, float]:
@@ -24,26 +24,8 @@ def run(task: int, depth_scale: float, lam: float = 0.5) -> tuple[dict, float, f
         max_episode_steps=4000,
         depth_scale=depth_scale,
     )
-    obs, info = env.reset(seed=0)
-    model = GoalModel.from_goal(
-        obs["goal_points"].reshape(-1, 2).astype(float), info["goal_depths"]
-    )
-    robot = env.unwrapped.robot
-    path, prev, t = 0.0, info["robot_pose"][:2], 0.0
-    while True:
-        x_n = obs["points"].reshape(-1, 2).astype(np.float64)
-        x_n /= np.linalg.norm(x_n, axis=1, keepdims=True)
-        v, _, gamma = ibvs_twist(x_n, model, lam=lam)
-        v_l, omega = robot_command(
-            v, gamma, lam, v_max=robot.max_linear_speed, omega_max=robot.max_angular_speed
-        )
-        action = np.array([v_l / robot.max_linear_speed, omega / robot.max_angular_speed])
-        obs, _, terminated, truncated, info = env.step(action.astype(np.float32))
-        t += 0.05
-        path += float(np.hypot(*(info["robot_pose"][:2] - prev)))
-        prev = info["robot_pose"][:2]
-        if terminated or truncated:
-            return info, t, path
+    info, steps, path = drive(env, RobotConfig(), lam=lam)
+    return info, 0.05 * steps, path
 
 
 def main() -> None:

@@ -78,7 +78,8 @@ def run_ibvs(task: int, depth_scale: float) -> tuple[dict, int, float]:
     import gymnasium as gym
 
     import radial_ibvs_gym  # noqa: F401
-    from agents.ibvs_core import robot_command
+    from agents.ibvs_core import drive
+    from radial_ibvs_gym.physics import RobotConfig
 
     env = gym.make(
         "RadialIBVS/Parking-v0",
@@ -88,27 +89,7 @@ def run_ibvs(task: int, depth_scale: float) -> tuple[dict, int, float]:
         max_episode_steps=2000,
         depth_scale=depth_scale,
     )
-    obs, info = env.reset(seed=0)
-    model = GoalModel.from_goal(
-        obs["goal_points"].reshape(-1, 2).astype(float), info["goal_depths"]
-    )
-    robot = env.unwrapped.robot
-    lam, path, prev, steps = 0.5, 0.0, info["robot_pose"][:2], 0
-    for _ in range(2000):
-        steps += 1
-        x_n = obs["points"].reshape(-1, 2).astype(np.float64)
-        x_n /= np.linalg.norm(x_n, axis=1, keepdims=True)  # float32 observation
-        v, _, gamma = ibvs_twist(x_n, model, lam=lam)
-        v_l, omega = robot_command(
-            v, gamma, lam, v_max=robot.max_linear_speed, omega_max=robot.max_angular_speed
-        )
-        action = np.array([v_l / robot.max_linear_speed, omega / robot.max_angular_speed])
-        obs, _, terminated, truncated, info = env.step(action.astype(np.float32))
-        path += float(np.hypot(*(info["robot_pose"][:2] - prev)))
-        prev = info["robot_pose"][:2]
-        if terminated or truncated:
-            break
-    return info, steps, path
+    return drive(env, RobotConfig(), lam=0.5)
 
 
 @pytest.mark.parametrize("task", range(4))
