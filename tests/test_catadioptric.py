@@ -178,6 +178,28 @@ def test_fast_visibility_agrees_with_the_root_find(name: str) -> None:
     assert (camera.visible(points) == exact).all()
 
 
+@pytest.mark.parametrize("name", [n for n in CAMERAS if not n.startswith("ellipsoid")])
+@settings(max_examples=20, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_visible_radius_bounds_agree_with_visible(name: str, seed: int) -> None:
+    camera = CAMERAS[name]
+    points = scene_points(camera, np.random.default_rng(seed), 400)
+    bounds = camera.visible_radius_bounds(points[:, 2])
+    assert bounds is not None
+    rho = np.hypot(points[:, 0], points[:, 1])
+    fast = (rho > bounds[0]) & (rho < bounds[1])
+    exact = camera.visible(points)
+    # equal except within a nanometre of a limiting ray, where rounding may decide either way
+    edge = (np.abs(rho - bounds[0]) < 1e-9) | (np.abs(rho - bounds[1]) < 1e-9)
+    np.testing.assert_array_equal(fast[~edge], exact[~edge])
+
+
+def test_visible_radius_bounds_need_an_on_axis_convex_camera() -> None:
+    tilted = paper_camera("A", imperfections=Imperfections(tilt=(0.01, 0.0)))
+    assert tilted.visible_radius_bounds([0.5]) is None
+    assert CAMERAS["ellipsoid-central"].visible_radius_bounds([0.5]) is None
+
+
 def test_points_above_the_rim_ray_and_in_the_blind_cone_are_hidden() -> None:
     camera = paper_camera("A")
     lo, hi = camera.elevation_range()

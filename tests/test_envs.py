@@ -319,3 +319,30 @@ def test_feature_observation_at_the_goal_position_measures_the_rotation() -> Non
     obs, _ = env.reset(seed=0, options={"start": [7.0, 7.0, gamma]})
     np.testing.assert_allclose(obs["c_error"], 0.0, atol=1e-6)
     assert float(obs["alpha_m_error"][0]) == pytest.approx(gamma, abs=1e-6)
+
+
+@pytest.mark.parametrize("scenario", SCENARIOS)
+def test_fast_observation_path_equals_projection_through_the_camera(scenario: str) -> None:
+    # the env's per-step shortcut (bearings + an interval of visible distances) must give
+    # exactly what the camera layer gives for the same poses
+    from radial_ibvs_gym.geometry import world_to_camera
+
+    env = gym.make("RadialIBVS/Parking-v0", scenario=scenario, physics="kinematic")
+    base = env.unwrapped
+    rng = np.random.default_rng(1)
+    for seed in range(5):
+        env.reset(seed=seed)
+        w, d = base.episode.room
+        for _ in range(40):
+            pose = np.array(
+                [rng.uniform(0.3, w - 0.3), rng.uniform(0.3, d - 0.3), rng.uniform(-4, 4)]
+            )
+            points, visible = base._image(pose, "current")
+            p_cam = world_to_camera(
+                base.episode.landmarks, pose, base.scenario.config.camera_height
+            )
+            expected_visible = base.scenario.camera.visible(p_cam)
+            np.testing.assert_array_equal(visible, expected_visible)
+            bearing = p_cam[:, :2] / np.hypot(p_cam[:, 0], p_cam[:, 1])[:, None]
+            np.testing.assert_allclose(points[visible], bearing[visible], atol=1e-12)
+            assert (points[~visible] == 0.0).all()

@@ -542,3 +542,43 @@ class CatadioptricCamera:
         """
         angles = [float(np.arctan2(wz, abs(wx))) for _, _, wx, wz, _ in self._boundary.values()]
         return (min(angles), max(angles))
+
+    def visible_radius_bounds(
+        self, heights: ArrayLike
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]] | None:
+        """Horizontal distances at which points of given heights are visible (on-axis cameras).
+
+        For an on-axis camera and a convex mirror, :meth:`visible` tests two half-planes in the
+        ``(rho, z)`` meridian plane, so for a point at a fixed height ``z`` it reduces to an
+        interval of ``rho = hypot(x, y)``: the point is visible iff ``lo < rho < hi``. A robot
+        moving on the floor sees its landmarks at fixed heights, so the environments compute
+        the interval once per episode and visibility costs two comparisons per step.
+
+        Parameters
+        ----------
+        heights
+            ``(...,)`` heights ``z`` of points in the camera frame, metres.
+
+        Returns
+        -------
+        tuple of numpy.ndarray or None
+            ``(lo, hi)``, each ``(...,)`` metres (``hi <= lo`` when no distance is visible,
+            ``hi = inf`` when there is no upper bound); ``None`` for a tilted or off-axis
+            camera or a concave mirror, where only :meth:`visible` applies.
+        """
+        if self.imperfections.geometric or self.mirror.concave:
+            return None
+        z = np.asarray(heights, dtype=np.float64) + self.camera_z
+        lo = np.full(z.shape, 1e-12)
+        hi = np.full(z.shape, np.inf)
+        for s, mz, wx, wz, ref in self._boundary.values():
+            # (wx (z - mz) - wz (rho - s)) ref > 0  <=>  k rho + b > 0
+            k = -wz * ref
+            b = (wx * (z - mz) + wz * s) * ref
+            if k > 0.0:
+                lo = np.maximum(lo, -b / k)
+            elif k < 0.0:
+                hi = np.minimum(hi, -b / k)
+            else:  # a horizontal limiting ray: all distances or none
+                hi = np.where(b > 0.0, hi, -np.inf)
+        return lo, hi

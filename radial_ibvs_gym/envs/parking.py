@@ -10,7 +10,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from radial_ibvs_gym.camera import CatadioptricCamera, normalise_pixels
+from radial_ibvs_gym.camera import normalise_pixels
 from radial_ibvs_gym.features import c_ij, pair_indices, virtual_point_weights
 from radial_ibvs_gym.geometry import world_to_camera, wrap_angle_scalar
 from radial_ibvs_gym.physics import BACKENDS, RobotConfig, World, make_world, wheels_to_twist
@@ -183,9 +183,9 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.render_mode = render_mode
         self.robot = RobotConfig.from_dict(dict(self.scenario.config.robot))
         if action_type == "twist":
-            self._scale = np.array([self.robot.max_linear_speed, self.robot.max_angular_speed])
+            self._scale = (self.robot.max_linear_speed, self.robot.max_angular_speed)
         else:  # wheel angular speeds, full scale = the wheel speed of the top linear speed
-            self._scale = np.full(2, self.robot.max_linear_speed / self.robot.wheel_radius)
+            self._scale = (self.robot.max_linear_speed / self.robot.wheel_radius,) * 2
         self._pairs = pair_indices(n)
 
         self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
@@ -218,11 +218,15 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         if self.world is None:
             raise RuntimeError("call reset() before step()")
         a = np.asarray(action, dtype=np.float64).reshape(-1)
-        if a.shape != (2,) or not np.isfinite(a).all():
+        if a.shape != (2,):
             raise ValueError(f"action must be two finite numbers in [-1, 1], got {action!r}")
-        command = np.minimum(np.maximum(a, -1.0), 1.0) * self._scale
+        a0, a1 = a.tolist()
+        if not (math.isfinite(a0) and math.isfinite(a1)):
+            raise ValueError(f"action must be two finite numbers in [-1, 1], got {action!r}")
+        s0, s1 = self._scale
+        command = (min(max(a0, -1.0), 1.0) * s0, min(max(a1, -1.0), 1.0) * s1)
         if self.action_type == "wheels":
-            command = wheels_to_twist(command, self.robot)
+            command = tuple(wheels_to_twist(command, self.robot).tolist())
         result = self.world.step(command, self.control_dt)
         self._observe(result.pose)
         pos_err, head_err = self._errors(result.pose)
@@ -276,7 +280,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.world = make_world(self.physics, self.robot, room, obstacles=obstacles, **extra)
         self.world.reset(episode.start)
         self._goal_depths = self.scenario.goal_depths(episode)
-        goal_points, goal_visible = self._image(episode.goal, self.scenario.goal_camera)
+        self._prepare_cameras()
+        goal_points, goal_visible = self._image(episode.goal, "goal")
         if goal_visible.sum() < self.min_visible:
             raise ValueError(
                 f"only {int(goal_visible.sum())} landmarks are visible at the goal "
@@ -352,27 +357,55 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         # pairs with a hidden point are masked out afterwards
         return np.where(mask[:, None], points, np.array([1.0, 0.0]))
 
-    def _image(self, pose: np.ndarray, camera: CatadioptricCamera) -> tuple[np.ndarray, np.ndarray]:
+    def _prepare_cameras(self) -> None:
+        """Per-episode constants of the fast observation path (landmarks at fixed heights)."""
+        assert self.episode is not None
+        landmarks = self.episode.landmarks
+        self._landmarks_xy = np.ascontiguousarray(landmarks[:, :2], dtype=np.float64)
+        heights = landmarks[:, 2] - self.scenario.config.camera_height
+        self._radius_bounds: dict[str, tuple[np.ndarray, np.ndarray] | None] = {}
+        for which, camera in (
+            ("current", self.scenario.camera),
+            ("goal", self.scenario.goal_camera),
+        ):
+            ideal = not camera.imperfections.any
+            self._radius_bounds[which] = camera.visible_radius_bounds(heights) if ideal else None
+
+    def _image(self, pose: np.ndarray, which: str) -> tuple[np.ndarray, np.ndarray]:
         """Normalised image points ``(N, 2)`` (zeros where hidden) and visibility ``(N,)``.
 
         An ideal camera gives eq. (9) exactly, so the points come straight from the 3D
-        geometry. A camera with imperfections is simulated as the paper's set-up measures: exact
-        projection through the mirror with the true intrinsics, tilt and offset, pixel noise
-        from ``np_random``, then eq. (7) with the *nominal* principal point and ``rho_f``.
+        geometry: the landmarks' bearings in the camera frame, and visibility from the interval
+        of horizontal distances the mirror sees at each landmark's height
+        (:meth:`CatadioptricCamera.visible_radius_bounds`). A camera with imperfections is
+        simulated as the paper's set-up measures: exact projection through the mirror with the
+        true intrinsics, tilt and offset, pixel noise from ``np_random``, then eq. (7) with the
+        *nominal* principal point and ``rho_f``.
         """
-        p_cam = self._to_camera(pose)
-        if not camera.imperfections.any:
-            visible = camera.visible(p_cam, validate=False)
-            d = np.hypot(p_cam[:, 0], p_cam[:, 1])
-            return p_cam[:, :2] * (visible / d)[:, None], visible
-        proj = camera.forward(p_cam, rng=self.np_random)
-        k = camera.intrinsics
-        pixels = np.where(proj.visible[:, None], proj.pixels, k.principal_point + 1.0)
-        x_n = normalise_pixels(pixels, k.principal_point, k.rho_f)
-        return np.where(proj.visible[:, None], x_n, 0.0), proj.visible
+        camera = self.scenario.camera if which == "current" else self.scenario.goal_camera
+        bounds = self._radius_bounds[which]
+        if bounds is None:
+            p_cam = self._to_camera(pose)
+            if not camera.imperfections.any:  # an on-axis concave mirror: exact visibility
+                visible = camera.visible(p_cam, validate=False)
+                d = np.hypot(p_cam[:, 0], p_cam[:, 1])
+                return p_cam[:, :2] * (visible / np.maximum(d, 1e-300))[:, None], visible
+            proj = camera.forward(p_cam, rng=self.np_random)
+            k = camera.intrinsics
+            pixels = np.where(proj.visible[:, None], proj.pixels, k.principal_point + 1.0)
+            x_n = normalise_pixels(pixels, k.principal_point, k.rho_f)
+            return np.where(proj.visible[:, None], x_n, 0.0), proj.visible
+        x, y, yaw = pose.tolist()
+        c, s = math.cos(yaw), math.sin(yaw)
+        # the same rotation as world_to_camera, on the horizontal components only
+        xy = (self._landmarks_xy - (x, y)) @ np.array(((c, -s), (s, c)))
+        rho = np.hypot(xy[:, 0], xy[:, 1])
+        visible = (rho > bounds[0]) & (rho < bounds[1])
+        xy *= (visible / np.maximum(rho, 1e-300))[:, None]
+        return xy, visible
 
     def _observe(self, pose: np.ndarray) -> None:
-        self._points, self._visible = self._image(pose, self.scenario.camera)
+        self._points, self._visible = self._image(pose, "current")
         self._n_visible = int(self._visible.sum())
 
     def _errors(self, pose: np.ndarray) -> tuple[float, float]:
