@@ -1,11 +1,24 @@
 """Reference and learned policies for the radial IBVS parking tasks.
 
-Every policy will implement stable-baselines3's ``predict(observation, state=None,
-episode_start=None, deterministic=True) -> (action, state)``. So far: the smooth control law
-(Park & Kuipers 2011, the paper's eq. 38) and the pose oracle built on it.
+Every policy implements stable-baselines3's ``predict(observation, state=None,
+episode_start=None, deterministic=True) -> (action, state)`` and says, in ``env_kwargs``, what
+``gym.make`` must add to the observation for it. :func:`make_policy` builds them by name.
 """
 
+from agents.ibvs import VARIANTS, IBVSPolicy
 from agents.oracle import PoseOracle
+from agents.registry import POLICY_NAMES, Policy, RandomPolicy, make_policy
 from agents.smooth_control import SmoothControlLaw, curvature, ego_polar
 
-__all__ = ["PoseOracle", "SmoothControlLaw", "curvature", "ego_polar"]
+__all__ = [
+    "POLICY_NAMES",
+    "VARIANTS",
+    "IBVSPolicy",
+    "Policy",
+    "PoseOracle",
+    "RandomPolicy",
+    "SmoothControlLaw",
+    "curvature",
+    "ego_polar",
+    "make_policy",
+]

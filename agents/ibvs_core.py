@@ -30,7 +30,7 @@ from radial_ibvs_gym.features import L_alpha_m, L_cij, alpha_m, c_ij, virtual_po
 from radial_ibvs_gym.geometry import rot2, wrap_angle_scalar
 from radial_ibvs_gym.physics import RobotConfig
 
-__all__ = ["GoalModel", "drive", "ibvs_twist", "robot_command"]
+__all__ = ["GoalModel", "drive", "ibvs_twist", "park_command", "robot_command"]
 
 
 @dataclass(frozen=True)
@@ -45,8 +45,10 @@ class GoalModel:
         ``(M,)`` goal features ``c*_ij`` (eq. 12).
     weights
         ``(N,)`` virtual-point weights ``a`` (eq. 27-29), so ``alpha*_m = 0``.
+    L_c_v
+        ``(M, 2)`` the ``(v_x, v_y)`` columns of ``L*_c`` (eq. 17).
     L_c_pinv
-        ``(2, M)`` pseudo-inverse of the ``(v_x, v_y)`` columns of ``L*_c`` (eq. 17).
+        ``(2, M)`` their pseudo-inverse.
     L_alpha_m_v
         ``(2,)`` the ``(v_x, v_y)`` entries of ``L*_alpha_m`` (eq. 24, 26).
     """
@@ -54,6 +56,7 @@ class GoalModel:
     x_n_goal: NDArray[np.float64]
     c_goal: NDArray[np.float64]
     weights: NDArray[np.float64]
+    L_c_v: NDArray[np.float64]
     L_c_pinv: NDArray[np.float64]
     L_alpha_m_v: NDArray[np.float64]
 
@@ -77,6 +80,7 @@ class GoalModel:
             x_n_goal=x,
             c_goal=c_ij(x),
             weights=a,
+            L_c_v=L_c,
             L_c_pinv=np.asarray(np.linalg.pinv(L_c), dtype=np.float64),
             L_alpha_m_v=L_alpha_m(x, d, z, a)[:2],
         )
@@ -170,6 +174,49 @@ def robot_command(
     omega = kappa * v_l
     factor = max(1.0, v_l / v_max, abs(omega) / omega_max)
     return v_l / factor, omega / factor
+
+
+def park_command(
+    v: NDArray[np.float64],
+    gamma: float,
+    lam: float,
+    k1: float,
+    k2: float,
+    v_max: float,
+    omega_max: float,
+    stop_radius: float,
+    stop_heading: float,
+    rotate_radius: float,
+) -> tuple[float, float]:
+    """:func:`robot_command` with the stop rule and the final rotation around it.
+
+    Eq. (38) is singular at the goal: as ``r -> 0`` the curvature grows as ``1 / r`` and its
+    sign follows the (then meaningless) direction of ``v``. So, with ``r = |v| / lam``:
+
+    - ``r < stop_radius`` and ``|gamma| < stop_heading``: zero command (the stop rule);
+    - ``r < rotate_radius``: turn on the spot, ``omega = lam gamma`` (clamped);
+    - otherwise eq. (38) (:func:`robot_command`).
+
+    Parameters
+    ----------
+    v, gamma, lam, k1, k2, v_max, omega_max
+        As in :func:`robot_command` (m/s, radians, 1/s, rad/s).
+    stop_radius, rotate_radius
+        Metres.
+    stop_heading
+        Radians.
+
+    Returns
+    -------
+    tuple of float
+        ``(v_l, omega)``, m/s and rad/s.
+    """
+    r = float(np.hypot(v[0], v[1])) / lam
+    if r < stop_radius and abs(gamma) < stop_heading:
+        return 0.0, 0.0
+    if r < rotate_radius:
+        return 0.0, min(max(lam * gamma, -omega_max), omega_max)
+    return robot_command(v, gamma, lam, k1, k2, v_max, omega_max)
 
 
 def drive(

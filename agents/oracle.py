@@ -7,11 +7,14 @@ true ``robot_pose`` and ``goal_pose``. It follows stable-baselines3's ``predict`
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
 
+from agents.ibvs_core import park_command
 from agents.smooth_control import SmoothControlLaw, ego_polar
+from radial_ibvs_gym.geometry import wrap_angle_scalar
 from radial_ibvs_gym.physics import RobotConfig
 
 __all__ = ["PoseOracle"]
@@ -20,28 +23,58 @@ __all__ = ["PoseOracle"]
 class PoseOracle:
     """Drive to the goal pose with the smooth control law on the true poses.
 
+    By default the speed follows the paper's mapping, as the IBVS does: the virtual target is
+    the true goal in the robot frame, ``v_l = lam r``, ``omega = kappa v_l`` (eq. 38), speed
+    limits scaling both (:func:`agents.ibvs_core.robot_command`), so the oracle and the IBVS
+    differ only in where ``r, phi, delta`` come from (the paper's "real 3D parameters"
+    comparison). With ``law`` set, the speeds come from that :class:`SmoothControlLaw`
+    instead (nav2's speed-from-curvature rule).
+
     Parameters
     ----------
-    law
-        The smooth control law (gains, speed limits); its ``v_max`` and ``omega_max`` default to
-        the robot's.
+    lam
+        Gain of the paper's mapping ``v_l = lam r``, 1/s.
+    k1, k2
+        Gains of eq. (38).
     robot
-        The robot, for the action scale (``action = (v / v_max, omega / omega_max)``).
-    stop_radius
-        Within this distance of the goal (metres) the command is zero.
+        The robot, for the speed limits and the action scale
+        (``action = (v / v_max, omega / omega_max)``).
+    stop_radius, stop_heading
+        Zero command within this distance of the goal (metres) when the heading error is also
+        below ``stop_heading`` (radians).
+    rotate_radius
+        Within this distance of the goal (metres), turn on the spot to the goal heading.
+    law
+        Optional nav2-style speed law (its ``v_max``/``omega_max`` should be the robot's).
     """
 
     def __init__(
         self,
-        law: SmoothControlLaw | None = None,
+        lam: float = 0.5,
+        k1: float = 4.0,
+        k2: float = 12.0,
         robot: RobotConfig | None = None,
-        stop_radius: float = 0.005,
+        stop_radius: float = 0.002,
+        stop_heading: float = math.radians(0.1),
+        rotate_radius: float = 0.005,
+        law: SmoothControlLaw | None = None,
     ) -> None:
+        for name, value in (("lam", lam), ("k1", k1), ("k2", k2)):
+            if not (math.isfinite(value) and value > 0):
+                raise ValueError(f"{name} must be finite and positive, got {value!r}")
+        self.lam, self.k1, self.k2 = float(lam), float(k1), float(k2)
         self.robot = robot or RobotConfig()
-        self.law = law or SmoothControlLaw(
-            v_max=self.robot.max_linear_speed, omega_max=self.robot.max_angular_speed
-        )
-        self.stop_radius = float(stop_radius)
+        self.stop_radius, self.stop_heading = float(stop_radius), float(stop_heading)
+        self.rotate_radius = float(rotate_radius)
+        self.law = law
+
+    def __repr__(self) -> str:
+        return f"PoseOracle(lam={self.lam}, k1={self.k1}, k2={self.k2}, law={self.law!r})"
+
+    @property
+    def env_kwargs(self) -> dict[str, bool]:
+        """What ``gym.make`` must add to the observation: the true poses."""
+        return {"privileged": True}
 
     def predict(
         self,
@@ -77,11 +110,26 @@ class PoseOracle:
         robot_pose = np.asarray(observation["robot_pose"], dtype=np.float64)
         goal_pose = np.asarray(observation["goal_pose"], dtype=np.float64)
         batched = robot_pose.ndim == 2
-        r, phi, delta = ego_polar(goal_pose.reshape(-1, 3), robot_pose.reshape(-1, 3))
-        scale = np.array([self.robot.max_linear_speed, self.robot.max_angular_speed])
-        actions = np.zeros((len(r), 2))
-        for i in range(len(r)):
-            if r[i] > self.stop_radius:
-                actions[i] = np.array(self.law.velocity(r[i], phi[i], delta[i])) / scale
-        actions = np.clip(actions, -1.0, 1.0).astype(np.float32)
+        robots, goals = robot_pose.reshape(-1, 3), goal_pose.reshape(-1, 3)
+        actions = np.array([self._act(p, g) for p, g in zip(robots, goals, strict=True)])
+        actions = np.clip(actions, -1.0, 1.0).astype(np.float32).reshape(-1, 2)
         return (actions if batched else actions[0]), state
+
+    def _act(self, pose: np.ndarray, goal: np.ndarray) -> tuple[float, float]:
+        v_max, w_max = self.robot.max_linear_speed, self.robot.max_angular_speed
+        c, s = math.cos(pose[2]), math.sin(pose[2])
+        dx, dy = goal[0] - pose[0], goal[1] - pose[1]
+        target = np.array([c * dx + s * dy, -s * dx + c * dy])  # the goal in the robot frame
+        gamma = wrap_angle_scalar(float(goal[2] - pose[2]))
+        if self.law is not None:
+            r = math.hypot(dx, dy)
+            if r < self.stop_radius and abs(gamma) < self.stop_heading:
+                return 0.0, 0.0
+            rr, phi, delta = ego_polar(goal, pose)
+            v, omega = self.law.velocity(float(rr), float(phi), float(delta))
+        else:
+            v, omega = park_command(
+                self.lam * target, gamma, self.lam, self.k1, self.k2, v_max, w_max,
+                self.stop_radius, self.stop_heading, self.rotate_radius,
+            )  # fmt: skip
+        return v / v_max, omega / w_max

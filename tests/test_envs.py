@@ -302,14 +302,23 @@ def test_human_render_mode_runs_headless() -> None:
 
 
 def test_privileged_observation_passes_the_checkers_and_wraps_the_goal_yaw() -> None:
+    kwargs = {"privileged": True, "goal_depths": True}
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        check_env(gym.make("RadialIBVS/Parking-v0", privileged=True).unwrapped)
-        sb3_check_env(gym.make("RadialIBVS/Parking-v0", privileged=True).unwrapped)
-    env = gym.make("RadialIBVS/Parking-v0", privileged=True, task=3)
+        check_env(gym.make("RadialIBVS/Parking-v0", **kwargs).unwrapped)
+        sb3_check_env(gym.make("RadialIBVS/Parking-v0", **kwargs).unwrapped)
+    env = gym.make("RadialIBVS/Parking-v0", task=3, depth_scale=1.3, **kwargs)
     obs, info = env.reset(seed=0)
     np.testing.assert_allclose(obs["goal_pose"], [7.0, 7.0, -math.pi / 2])  # 270 deg wrapped
     np.testing.assert_array_equal(obs["robot_pose"], info["robot_pose"])
+    # goal depths: the scaled d* of info; depths: the true current horizontal distances
+    np.testing.assert_allclose(obs["goal_depths"], info["goal_depths"], rtol=1e-6)
+    landmarks = env.unwrapped.episode.landmarks
+    np.testing.assert_allclose(
+        obs["depths"], np.hypot(*(landmarks[:, :2] - [3.0, 3.0]).T), rtol=1e-6
+    )
+    obs, *_ = env.step(np.array([1.0, 0.0], np.float32))
+    assert not np.allclose(obs["depths"], np.hypot(*(landmarks[:, :2] - [3.0, 3.0]).T))
 
 
 def test_feature_observation_at_the_goal_position_measures_the_rotation() -> None:

@@ -56,8 +56,12 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     (1) zeros where the landmark is not visible. (2) ``obs_mode="features"`` only; 0 for pairs
     with a hidden point; ``alpha_m`` uses the virtual point of the visible landmarks.
-    With ``privileged=True`` the true ``robot_pose`` and ``goal_pose`` ``(x, y, yaw)`` (metres,
-    radians, world frame) are added: for the pose oracle, never for a vision-based policy.
+    With ``goal_depths=True``, ``goal_depths`` ``Box(0, 1e3, (N,))`` adds the goal depths ``d*``
+    (horizontal distances at the goal, metres, times the scenario's ``depth_scale``): the only
+    3D knowledge the paper's IBVS uses. With ``privileged=True`` the true ``robot_pose`` and
+    ``goal_pose`` ``(x, y, yaw)`` (metres, radians, world frame) and the current true
+    ``depths`` ``(N,)`` (metres) are added: for the pose oracle and the classic IBVS variants,
+    never for a vision-based policy.
 
     ## Rewards
     ``r = progress + heading + time + collision + lost + success`` (named in
@@ -85,7 +89,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | ``physics_dt`` | ``0.01`` | pymunk sub-step, seconds (``control_dt`` is a multiple) |
     | ``obs_mode`` | ``"points"`` | ``"points"`` or ``"features"`` |
     | ``action_type`` | ``"twist"`` | ``"twist"`` ``(v, omega)`` or ``"wheels"`` (left, right) |
-    | ``privileged`` | ``False`` | add the true poses to the observation (pose oracle) |
+    | ``goal_depths`` | ``False`` | add the goal depths ``d*`` to the observation (IBVS) |
+    | ``privileged`` | ``False`` | add the true poses and depths to the observation |
     | ``control_dt`` | ``0.1`` | control period, seconds |
     | ``success_position_m`` / ``success_heading_deg`` | ``0.02`` / ``2.0`` | success tolerances |
     | ``min_visible`` | ``3`` | fewer visible landmarks terminate the episode |
@@ -115,6 +120,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         obs_mode: Literal["points", "features"] = "points",
         action_type: Literal["twist", "wheels"] = "twist",
         privileged: bool = False,
+        goal_depths: bool = False,
         control_dt: float = 0.1,
         success_position_m: float = 0.02,
         success_heading_deg: float = 2.0,
@@ -159,6 +165,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.obs_mode = obs_mode
         self.action_type = action_type
         self.privileged = bool(privileged)
+        self.goal_depths_in_obs = bool(goal_depths)
         self.control_dt = float(control_dt)
         self.physics_dt = float(physics_dt)
         if (
@@ -198,11 +205,15 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             m = len(self._pairs[0])
             obs_spaces["c_error"] = spaces.Box(-2.0, 2.0, (m,), np.float32)
             obs_spaces["alpha_m_error"] = spaces.Box(-np.pi, np.pi, (1,), np.float32)
+        depth_space = spaces.Box(0.0, 1e3, (n,), np.float32)  # metres
+        if goal_depths:
+            obs_spaces["goal_depths"] = depth_space
         if privileged:
             bound = np.array([1e3, 1e3, np.pi])  # metres, metres, radians (yaw wrapped)
             pose_space = spaces.Box(-bound, bound, (3,), np.float64)
             obs_spaces["robot_pose"] = pose_space
             obs_spaces["goal_pose"] = pose_space
+            obs_spaces["depths"] = depth_space
         self.observation_space = spaces.Dict(obs_spaces)  # type: ignore[assignment]
 
         self._renderer: Any = None
@@ -453,10 +464,15 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             c_err, a_err = self._feature_errors()
             obs["c_error"] = np.clip(c_err, -2.0, 2.0).astype(np.float32)
             obs["alpha_m_error"] = a_err.astype(np.float32)
+        if self.goal_depths_in_obs:
+            obs["goal_depths"] = self._goal_depths.astype(np.float32)
         if self.privileged:
             assert self.world is not None and self.episode is not None
-            obs["robot_pose"] = self.world.pose
+            pose = self.world.pose
+            obs["robot_pose"] = pose
             obs["goal_pose"] = self.episode.goal.astype(np.float64)
+            p_cam = self._to_camera(pose)
+            obs["depths"] = np.hypot(p_cam[:, 0], p_cam[:, 1]).astype(np.float32)
         return obs
 
     def _info(

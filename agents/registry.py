@@ -1,0 +1,96 @@
+"""Policies by name, as the CLI and the benchmark use them (``../docs``: CONTRACTS).
+
+Every policy has stable-baselines3's ``predict(observation, state=None, episode_start=None,
+deterministic=True) -> (action, state)`` and an ``env_kwargs`` mapping: what ``gym.make`` must
+add to the observation for it (the goal depths, the true poses).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any, Protocol
+
+import numpy as np
+
+from agents.ibvs import IBVSPolicy
+from agents.oracle import PoseOracle
+
+__all__ = ["POLICY_NAMES", "Policy", "RandomPolicy", "make_policy"]
+
+
+class Policy(Protocol):
+    """What every policy provides."""
+
+    @property
+    def env_kwargs(self) -> dict[str, bool]:  # noqa: D102
+        ...
+
+    def predict(  # noqa: D102
+        self,
+        observation: dict[str, np.ndarray],
+        state: Any = None,
+        episode_start: np.ndarray | None = None,
+        deterministic: bool = True,
+    ) -> tuple[np.ndarray, Any]: ...
+
+
+class RandomPolicy:
+    """Uniform random actions in ``[-1, 1]^2`` (a floor for the benchmark).
+
+    Parameters
+    ----------
+    seed
+        Seed of the policy's own generator (the same seed, the same actions).
+    """
+
+    env_kwargs: dict[str, bool] = {}  # noqa: RUF012
+
+    def __init__(self, seed: int | None = 0) -> None:
+        self.rng = np.random.default_rng(seed)
+
+    def __repr__(self) -> str:
+        return "RandomPolicy()"
+
+    def predict(
+        self,
+        observation: dict[str, np.ndarray],
+        state: Any = None,
+        episode_start: np.ndarray | None = None,
+        deterministic: bool = True,
+    ) -> tuple[np.ndarray, Any]:
+        """Random action(s), ``(2,)`` or ``(B, 2)`` float32, for one observation or a batch."""
+        points = np.asarray(observation["points"])
+        shape = (len(points), 2) if points.ndim == 2 else (2,)
+        return self.rng.uniform(-1.0, 1.0, shape).astype(np.float32), state
+
+
+_FACTORIES: dict[str, Callable[..., Policy]] = {
+    "ibvs": lambda **kw: IBVSPolicy("paper", **kw),
+    "ibvs-current": lambda **kw: IBVSPolicy("current", **kw),
+    "ibvs-mean": lambda **kw: IBVSPolicy("mean", **kw),
+    "ibvs-no-frame-change": lambda **kw: IBVSPolicy("no-frame-change", **kw),
+    "oracle": lambda **kw: PoseOracle(**kw),
+    "random": lambda **kw: RandomPolicy(**kw),
+}
+POLICY_NAMES = tuple(_FACTORIES)
+
+
+def make_policy(name: str, **kwargs: Any) -> Policy:
+    """Build a policy by its name.
+
+    Parameters
+    ----------
+    name
+        One of :data:`POLICY_NAMES` (``ibvs``, ``ibvs-current``, ``ibvs-mean``,
+        ``ibvs-no-frame-change``, ``oracle``, ``random``).
+    **kwargs
+        Passed to the policy (e.g. ``lam=0.5`` for the IBVS variants, ``seed`` for ``random``).
+
+    Raises
+    ------
+    ValueError
+        If the name is unknown (the message lists the valid ones).
+    """
+    if name not in _FACTORIES:
+        raise ValueError(f"unknown policy {name!r}; valid: {list(POLICY_NAMES)}")
+    return _FACTORIES[name](**kwargs)
