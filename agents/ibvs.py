@@ -18,8 +18,8 @@ Behaviour at the edges (tested): only landmarks visible both now and in the goal
 used; with fewer than 3 of them the command is zero (the robot stops: nothing sensible can be
 estimated). The command is zero once the feature error maps to an estimated distance below
 ``stop_radius`` and a rotation below ``stop_heading`` (the stop rule); within ``rotate_radius``
-the robot turns on the spot to the goal heading (eq. 38 is singular at ``r = 0``). Heading
-errors near ``+-pi`` are wrapped, so ``gamma`` stays in ``[-pi, pi)``.
+the robot makes a final approach, turning to the goal heading (eq. 38 is singular at
+``r = 0``). Heading errors near ``+-pi`` are wrapped, so ``gamma`` stays in ``[-pi, pi)``.
 """
 
 from __future__ import annotations
@@ -62,9 +62,10 @@ class IBVSPolicy:
         Stop rule: zero command when the estimated distance to the goal (metres) and the
         estimated rotation (radians) are both below these.
     rotate_radius
-        Within this estimated distance (metres), turn on the spot towards the goal heading
-        (``omega = lam * gamma``) instead of following eq. (38), which is singular at
-        ``r = 0`` (:func:`agents.ibvs_core.park_command`); 0 never does.
+        Within this estimated distance (metres), the final approach: drive the forward part
+        of ``v`` and turn to the goal heading (``omega = lam * gamma``) instead of following
+        eq. (38), which is singular at ``r = 0`` (:func:`agents.ibvs_core.park_command`);
+        0 never does.
     compensation
         Sign of eq. (30)'s compensation terms: ``"derived"`` (correct) or ``"printed"`` (the
         paper's misprint, for comparison only).
@@ -87,7 +88,7 @@ class IBVSPolicy:
         robot: RobotConfig | None = None,
         stop_radius: float = 0.002,
         stop_heading: float = math.radians(0.1),
-        rotate_radius: float = 0.005,
+        rotate_radius: float = 0.02,
         compensation: Literal["derived", "printed"] = "derived",
     ) -> None:
         if variant not in VARIANTS:

@@ -194,7 +194,10 @@ def park_command(
     sign follows the (then meaningless) direction of ``v``. So, with ``r = |v| / lam``:
 
     - ``r < stop_radius`` and ``|gamma| < stop_heading``: zero command (the stop rule);
-    - ``r < rotate_radius``: turn on the spot, ``omega = lam gamma`` (clamped);
+    - ``r < rotate_radius``: the final approach, ``v_l = v_x`` (the forward part of ``v``,
+      forwards or backwards) and ``omega = lam gamma`` (clamped): the heading is servoed on
+      ``gamma`` (from ``alpha_m``, robust to image noise) instead of the direction of ``v``,
+      which image noise dominates near the goal;
     - otherwise eq. (38) (:func:`robot_command`).
 
     Parameters
@@ -214,8 +217,8 @@ def park_command(
     r = float(np.hypot(v[0], v[1])) / lam
     if r < stop_radius and abs(gamma) < stop_heading:
         return 0.0, 0.0
-    if r < rotate_radius:
-        return 0.0, min(max(lam * gamma, -omega_max), omega_max)
+    if r < rotate_radius:  # final approach: the forward part of v, and turn to the goal heading
+        return float(v[0]), min(max(lam * gamma, -omega_max), omega_max)
     return robot_command(v, gamma, lam, k1, k2, v_max, omega_max)
 
 

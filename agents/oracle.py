@@ -43,7 +43,8 @@ class PoseOracle:
         Zero command within this distance of the goal (metres) when the heading error is also
         below ``stop_heading`` (radians).
     rotate_radius
-        Within this distance of the goal (metres), turn on the spot to the goal heading.
+        Within this distance of the goal (metres), the final approach of
+        :func:`agents.ibvs_core.park_command` (drive the forward part, turn to the goal heading).
     law
         Optional nav2-style speed law (its ``v_max``/``omega_max`` should be the robot's).
     """
@@ -56,7 +57,7 @@ class PoseOracle:
         robot: RobotConfig | None = None,
         stop_radius: float = 0.002,
         stop_heading: float = math.radians(0.1),
-        rotate_radius: float = 0.005,
+        rotate_radius: float = 0.02,
         law: SmoothControlLaw | None = None,
     ) -> None:
         for name, value in (("lam", lam), ("k1", k1), ("k2", k2)):

@@ -201,3 +201,12 @@ def test_world_to_camera_axes() -> None:
     points = np.array([[1.0, 5.0, 0.0], [0.0, 2.0, 3.0]])  # ahead; to the left, above
     out = world_to_camera(points, pose, camera_height=1.0)
     np.testing.assert_allclose(out, [[3.0, 0.0, -1.0], [0.0, 1.0, 2.0]], atol=1e-15)
+
+
+def test_world_to_camera_broadcasts_a_trajectory_of_poses_over_one_point_set() -> None:
+    poses = np.array([[1.0, 2.0, PI / 2], [0.0, 0.0, 0.0], [3.0, -1.0, 2.0]])  # (T, 3)
+    points = np.array([[1.0, 5.0, 0.0], [0.0, 2.0, 3.0]])  # (N, 3)
+    out = world_to_camera(points, poses, camera_height=1.0)
+    assert out.shape == (3, 2, 3)
+    for k, pose in enumerate(poses):
+        np.testing.assert_allclose(out[k], world_to_camera(points, pose, 1.0), atol=1e-15)

@@ -128,8 +128,16 @@ def test_fewer_than_three_shared_points_stop_the_robot() -> None:
 def test_at_the_goal_position_the_robot_turns_on_the_spot_to_the_goal_heading(policy) -> None:
     obs = observation(options={"start": [7.0, 7.0, math.pi / 2 - 0.3]})
     turn, _ = policy.predict(obs)
-    assert turn[0] == 0.0
+    assert abs(turn[0]) < 1e-6
     assert turn[1] == pytest.approx(0.5 * 0.3 / math.radians(300), rel=1e-3)  # lam * gamma
+
+
+def test_final_approach_drives_the_forward_part_and_turns_to_the_goal_heading() -> None:
+    # 1 cm behind the goal (along its heading), 2 deg off: forwards, turning to the goal heading
+    obs = observation(options={"start": [7.0, 6.99, math.pi / 2 - math.radians(2)]})
+    action, _ = IBVSPolicy().predict(obs)
+    assert action[0] * 1.2 == pytest.approx(0.5 * 0.01, rel=0.05)  # v_l = lam * 1 cm
+    assert action[1] * math.radians(300) == pytest.approx(0.5 * math.radians(2), rel=0.05)
 
 
 def test_without_the_final_rotation_eq38_is_singular_at_the_goal() -> None:

@@ -41,3 +41,17 @@ def test_maths_layer_imports_only_numpy_and_lower_layers(layer: str) -> None:
                 sub = name.split(".")[1]
                 allowed = {"_validation", *LAYERS[: LAYERS.index(layer) + 1]}
                 assert sub in allowed, f"{path.name} imports the higher layer {name}"
+
+
+def test_only_the_top_layer_imports_the_experiments_and_agents_never_import_it() -> None:
+    # envs -> agents -> experiments/CLI: nothing below the experiments imports them
+    root = PACKAGE.parent
+    below = [*sorted((PACKAGE / "envs").rglob("*.py")), *sorted((root / "agents").rglob("*.py"))]
+    for layer in LAYERS:
+        below.extend(sorted((PACKAGE / layer).rglob("*.py")))
+    for path in below:
+        for name in _imports(path):
+            assert not name.startswith("radial_ibvs_gym.experiments"), f"{path} imports {name}"
+            assert not name.startswith("radial_ibvs_gym.cli"), f"{path} imports {name}"
+    for path in sorted((PACKAGE / "envs").rglob("*.py")):
+        assert not any(n.split(".")[0] == "agents" for n in _imports(path)), path

@@ -54,4 +54,5 @@ def world_to_camera(
         dx = p[..., 0] - q[..., None, 0]
         dy = p[..., 1] - q[..., None, 1]
         c, s = np.cos(q[..., None, 2]), np.sin(q[..., None, 2])
-    return np.stack([c * dx + s * dy, -s * dx + c * dy, p[..., 2] - camera_height], axis=-1)
+    z = np.broadcast_to(p[..., 2] - camera_height, np.shape(dx))  # poses may add batch axes
+    return np.stack([c * dx + s * dy, -s * dx + c * dy, z], axis=-1)

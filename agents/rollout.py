@@ -1,0 +1,173 @@
+"""Run a policy for one episode and keep what the tables and figures need.
+
+One code path for ``reproduce``, ``evaluate`` and the benchmark: :func:`run_episode` steps a
+policy (anything with SB3's ``predict``) in an env and returns an :class:`EpisodeLog` with the
+trajectory, the observations and the metrics of ``../docs`` CONTRACTS' JSON rows.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+from numpy.typing import NDArray
+
+__all__ = ["EpisodeLog", "run_episode"]
+
+
+@dataclass
+class EpisodeLog:
+    """One episode of a policy in a ``Parking-v0``-like env.
+
+    Attributes
+    ----------
+    policy, scenario, physics
+        Names (the policy's as given to :func:`run_episode`).
+    task, seed
+        The episode's task index and reset seed.
+    control_dt
+        Control period, seconds.
+    poses
+        ``(T + 1, 3)`` robot poses ``(x, y, yaw)`` from the reset on, metres and radians.
+    actions
+        ``(T, 2)`` actions in ``[-1, 1]``.
+    points, visible
+        ``(T + 1, N, 2)`` observed image points ``x_n`` (zeros where hidden) and ``(T + 1, N)``
+        visibility.
+    goal_points
+        ``(N, 2)`` the goal image ``x_n*``.
+    info
+        The last ``info``.
+    compute_s
+        Seconds spent in ``predict`` over the episode.
+    extra
+        Anything a caller adds (e.g. the suite).
+    """
+
+    policy: str
+    scenario: str
+    physics: str
+    task: int | None
+    seed: int
+    control_dt: float
+    poses: NDArray[np.float64]
+    actions: NDArray[np.float64]
+    points: NDArray[np.float64]
+    visible: NDArray[np.bool_]
+    goal_points: NDArray[np.float64]
+    info: dict[str, Any]
+    compute_s: float
+    extra: dict[str, Any] = field(default_factory=dict)
+
+    @property
+    def steps(self) -> int:
+        """Number of steps taken."""
+        return len(self.actions)
+
+    @property
+    def times(self) -> NDArray[np.float64]:
+        """``(T + 1,)`` time of each pose, seconds."""
+        return np.asarray(self.control_dt * np.arange(self.steps + 1), dtype=np.float64)
+
+    @property
+    def path_length_m(self) -> float:
+        """Length of the driven path, metres."""
+        return float(np.linalg.norm(np.diff(self.poses[:, :2], axis=0), axis=1).sum())
+
+    @property
+    def success(self) -> bool:
+        """Whether the env reported success at the end."""
+        return bool(self.info.get("is_success", False))
+
+    def row(self) -> dict[str, Any]:
+        """Return the episode as a JSON row (keys of CONTRACTS' ``--json`` rows, plus ``extra``)."""
+        steps = max(self.steps, 1)
+        return {
+            "policy": self.policy,
+            "scenario": self.scenario,
+            "suite": self.extra.get("suite"),
+            "task": self.task,
+            "seed": self.seed,
+            "physics": self.physics,
+            "success": self.success,
+            "final_position_error_m": float(self.info["position_error_m"]),
+            "final_heading_error_deg": float(self.info["heading_error_deg"]),
+            "steps": self.steps,
+            "time_s": round(self.steps * self.control_dt, 9),
+            "path_length_m": self.path_length_m,
+            "collision": bool(self.info.get("collision", False)),
+            "compute_us_per_step": 1e6 * self.compute_s / steps,
+            **{k: v for k, v in self.extra.items() if k != "suite"},
+        }
+
+
+def run_episode(
+    policy: Any,
+    env: gym.Env,
+    *,
+    seed: int = 0,
+    options: dict[str, Any] | None = None,
+    policy_name: str | None = None,
+    max_steps: int | None = None,
+) -> EpisodeLog:
+    """Run ``policy`` in ``env`` for one episode (until termination or truncation).
+
+    Parameters
+    ----------
+    policy
+        Anything with SB3's ``predict(observation, state, episode_start, deterministic)``.
+    env
+        A ``RadialIBVS/Parking-v0`` env (or one with the same observation and ``info``), made
+        with the policy's ``env_kwargs``.
+    seed
+        Reset seed.
+    options
+        Reset options (``start``, ``goal``, ``task``).
+    policy_name
+        Name recorded in the log (default: the policy's class name).
+    max_steps
+        Extra step budget on top of the env's own truncation (``None``: only the env's).
+
+    Returns
+    -------
+    EpisodeLog
+        The trajectory and metrics.
+    """
+    obs, info = env.reset(seed=seed, options=options)
+    base = env.unwrapped
+    poses, points, visible = [info["robot_pose"]], [obs["points"]], [obs["visible"]]
+    actions: list[np.ndarray] = []
+    state, episode_start, compute = None, np.ones(1, dtype=bool), 0.0
+    limit = math.inf if max_steps is None else max_steps
+    while len(actions) < limit:
+        start = time.perf_counter()
+        action, state = policy.predict(obs, state, episode_start, deterministic=True)
+        compute += time.perf_counter() - start
+        episode_start = np.zeros(1, dtype=bool)
+        obs, _, terminated, truncated, info = env.step(action)
+        poses.append(info["robot_pose"])
+        actions.append(np.asarray(action, dtype=np.float64))
+        points.append(obs["points"])
+        visible.append(obs["visible"])
+        if terminated or truncated:
+            break
+    n = len(obs["visible"])
+    return EpisodeLog(
+        policy=policy_name or type(policy).__name__,
+        scenario=base.scenario.config.name if hasattr(base, "scenario") else "?",
+        physics=getattr(base, "physics", "?"),
+        task=info.get("task"),
+        seed=seed,
+        control_dt=float(getattr(base, "control_dt", float("nan"))),
+        poses=np.array(poses, dtype=np.float64),
+        actions=np.array(actions, dtype=np.float64).reshape(-1, 2),
+        points=np.array(points, dtype=np.float64).reshape(-1, n, 2),
+        visible=np.array(visible).reshape(-1, n) > 0.5,
+        goal_points=np.asarray(obs["goal_points"], dtype=np.float64).reshape(n, 2),
+        info=info,
+        compute_s=compute,
+    )
