@@ -35,6 +35,7 @@ type:
 bench:
 	$(BIN)/python benchmarks/bench_maths.py
 	$(BIN)/python benchmarks/bench_envs.py
+	$(BIN)/python benchmarks/bench_controllers.py
 
 clean:
 	rm -rf $(VENV) build dist *.egg-info .pytest_cache .mypy_cache .ruff_cache .hypothesis outputs

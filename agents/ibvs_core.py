@@ -21,16 +21,15 @@ Sign conventions fixed here (camera twist ``(v, omega)``, ``dP/dt = -v - omega x
 from __future__ import annotations
 
 from dataclasses import dataclass
-from typing import Any, Literal
+from typing import Literal
 
 import numpy as np
 from numpy.typing import NDArray
 
 from radial_ibvs_gym.features import L_alpha_m, L_cij, alpha_m, c_ij, virtual_point_weights
 from radial_ibvs_gym.geometry import rot2, wrap_angle_scalar
-from radial_ibvs_gym.physics import RobotConfig
 
-__all__ = ["GoalModel", "drive", "ibvs_twist", "park_command", "robot_command"]
+__all__ = ["GoalModel", "ibvs_twist", "park_command", "robot_command"]
 
 
 @dataclass(frozen=True)
@@ -220,49 +219,3 @@ def park_command(
     if r < rotate_radius:  # final approach: the forward part of v, and turn to the goal heading
         return float(v[0]), min(max(lam * gamma, -omega_max), omega_max)
     return robot_command(v, gamma, lam, k1, k2, v_max, omega_max)
-
-
-def drive(
-    env: Any, robot: RobotConfig, lam: float = 0.5, max_steps: int = 4000
-) -> tuple[dict[str, Any], int, float]:
-    """Run one episode of a ``Parking-v0`` env with the paper's IBVS, from its image points.
-
-    A stop-gap runner until the IBVS policy (with SB3's ``predict``) lands: the goal model is
-    built from the first observation and ``info["goal_depths"]``.
-
-    Parameters
-    ----------
-    env
-        A ``RadialIBVS/Parking-v0`` env (already configured; it is reset here, seed 0).
-    robot
-        The robot, for the action scale.
-    lam
-        The IBVS gain, 1/s.
-    max_steps
-        Step budget.
-
-    Returns
-    -------
-    tuple
-        The last ``info``, the number of steps and the path length in metres.
-    """
-    obs, info = env.reset(seed=0)
-    model = GoalModel.from_goal(
-        obs["goal_points"].reshape(-1, 2).astype(float), info["goal_depths"]
-    )
-    path, prev, steps = 0.0, info["robot_pose"][:2], 0
-    for _ in range(max_steps):
-        steps += 1
-        x_n = obs["points"].reshape(-1, 2).astype(np.float64)
-        x_n /= np.linalg.norm(x_n, axis=1, keepdims=True)  # the observation is float32
-        v, _, gamma = ibvs_twist(x_n, model, lam=lam)
-        v_l, omega = robot_command(
-            v, gamma, lam, v_max=robot.max_linear_speed, omega_max=robot.max_angular_speed
-        )
-        action = np.array([v_l / robot.max_linear_speed, omega / robot.max_angular_speed])
-        obs, _, terminated, truncated, info = env.step(action.astype(np.float32))
-        path += float(np.hypot(*(info["robot_pose"][:2] - prev)))
-        prev = info["robot_pose"][:2]
-        if terminated or truncated:
-            break
-    return info, steps, path

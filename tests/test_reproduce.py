@@ -60,6 +60,7 @@ def test_reproduce_writes_the_table_csv_json_and_figures(
         assert (out / name).read_bytes()[:4] == b"\x89PNG"
     assert (out / "fig6-8-servoing-task1.png").exists()
     assert not list(out.glob(".*.tmp"))  # atomic writes leave nothing behind
+    assert (out / "table.md").stat().st_mode & 0o044  # readable by others, like any new file
 
 
 def test_reproduce_rejects_a_bad_task_with_a_message(capsys: pytest.CaptureFixture[str]) -> None:
