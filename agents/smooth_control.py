@@ -101,6 +101,13 @@ class SmoothControlLaw:
         Linear speed bounds, m/s.
     omega_max
         Angular speed bound, rad/s (the linear speed is reduced with it: the curvature is kept).
+    rotate_radius
+        Within this distance of the target (metres) the robot stops translating and turns on
+        the spot to the target's yaw, ``omega = k_rotate * (phi - delta)`` (clamped); 0 (the
+        default) never does. The curvature grows as ``1 / r``, so near the target a final
+        in-place rotation is the robust way to fix the heading.
+    k_rotate
+        Gain of the final rotation, 1/s.
     """
 
     k_phi: float = 4.0
@@ -111,14 +118,26 @@ class SmoothControlLaw:
     v_min: float = 0.0
     v_max: float = 1.2
     omega_max: float = math.radians(300.0)
+    rotate_radius: float = 0.0
+    k_rotate: float = 1.0
 
     def __post_init__(self) -> None:
-        for name in ("k_phi", "k_delta", "slowdown_radius", "v_max", "omega_max", "lam"):
+        for name in (
+            "k_phi",
+            "k_delta",
+            "slowdown_radius",
+            "v_max",
+            "omega_max",
+            "lam",
+            "k_rotate",
+        ):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ValueError(f"{name} must be finite and positive, got {value!r}")
         if not (math.isfinite(self.beta) and self.beta >= 0):
             raise ValueError(f"beta must be >= 0, got {self.beta!r}")
+        if not (math.isfinite(self.rotate_radius) and self.rotate_radius >= 0):
+            raise ValueError(f"rotate_radius must be >= 0, got {self.rotate_radius!r}")
         if not (0.0 <= self.v_min <= self.v_max):
             raise ValueError(f"need 0 <= v_min <= v_max, got {self.v_min!r}, {self.v_max!r}")
 
@@ -141,6 +160,9 @@ class SmoothControlLaw:
         """
         if r <= 0.0:
             return 0.0, 0.0
+        if r < self.rotate_radius:  # final rotation: phi - delta is the target yaw minus ours
+            turn = self.k_rotate * math.remainder(phi - delta, 2.0 * math.pi)
+            return 0.0, min(max(turn, -self.omega_max), self.omega_max)
         kappa = float(curvature(r, phi, delta, self.k_phi, self.k_delta))
         kappa = -kappa if backward else kappa
         v = self.v_max / (1.0 + self.beta * abs(kappa) ** self.lam)

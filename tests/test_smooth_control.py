@@ -102,12 +102,47 @@ def test_drives_a_unicycle_to_the_goal_pose() -> None:
     assert abs(math.remainder(pose[2] - goal[2], 2 * math.pi)) < math.radians(1.0)
 
 
+def simulate(law: SmoothControlLaw, goal: np.ndarray, backward: bool = False) -> np.ndarray:
+    """Euler unicycle at 50 Hz from (3, 3, 0) under the law; returns the final pose."""
+    pose, dt = np.array([3.0, 3.0, 0.0]), 0.02
+    for _ in range(4000):
+        r, phi, delta = ego_polar(goal, pose, backward=backward)
+        v, omega = law.velocity(float(r), float(phi), float(delta), backward=backward)
+        if v == 0.0 and omega == 0.0:
+            break
+        pose = pose + dt * np.array([v * math.cos(pose[2]), v * math.sin(pose[2]), omega])
+    return pose
+
+
+def test_backward_motion_parks_reversing() -> None:
+    # the goal behind the robot, facing away from it: reversing is the natural way in
+    law = SmoothControlLaw(slowdown_radius=0.3, rotate_radius=0.01)
+    goal = np.array([1.0, 2.5, 0.0])
+    r, phi, delta = ego_polar(goal, np.array([3.0, 3.0, 0.0]), backward=True)
+    assert law.velocity(float(r), float(phi), float(delta), backward=True)[0] < 0.0
+    pose = simulate(law, goal, backward=True)
+    assert math.hypot(*(pose[:2] - goal[:2])) < 0.01
+    assert abs(math.remainder(pose[2] - goal[2], 2 * math.pi)) < math.radians(1.0)
+
+
+@pytest.mark.parametrize("yaw_error", [0.5, -2.5, math.pi - 1e-3])
+def test_final_rotation_turns_the_short_way_to_the_target_yaw(yaw_error: float) -> None:
+    law = SmoothControlLaw(rotate_radius=0.05, k_rotate=2.0)
+    target = np.array([0.01, 0.0, yaw_error])
+    v, omega = law.velocity(*(float(c) for c in ego_polar(target)))
+    assert v == 0.0
+    expected = min(max(2.0 * yaw_error, -law.omega_max), law.omega_max)
+    assert omega == pytest.approx(expected)
+
+
 @pytest.mark.parametrize(
     ("kwargs", "match"),
     [
         ({"k_phi": 0.0}, "k_phi must be finite and positive"),
         ({"v_min": 2.0}, "v_min <= v_max"),
         ({"beta": -1.0}, "beta must be >= 0"),
+        ({"rotate_radius": -0.1}, "rotate_radius must be >= 0"),
+        ({"k_rotate": 0.0}, "k_rotate must be finite and positive"),
     ],
 )
 def test_bad_gains_are_named(kwargs, match) -> None:
