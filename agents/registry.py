@@ -8,6 +8,7 @@ add to the observation for it (the goal depths, the true poses).
 from __future__ import annotations
 
 from collections.abc import Callable
+from pathlib import Path
 from typing import Any, Protocol
 
 import numpy as np
@@ -82,15 +83,25 @@ def make_policy(name: str, **kwargs: Any) -> Policy:
     ----------
     name
         One of :data:`POLICY_NAMES` (``ibvs``, ``ibvs-current``, ``ibvs-mean``,
-        ``ibvs-no-frame-change``, ``oracle``, ``random``).
+        ``ibvs-no-frame-change``, ``oracle``, ``random``), a shipped model's name
+        (:func:`agents.learned.shipped_models`, e.g. ``ppo-paper-sim``) or a model directory.
     **kwargs
-        Passed to the policy (e.g. ``lam=0.5`` for the IBVS variants, ``seed`` for ``random``).
+        Passed to the policy (e.g. ``lam=0.5`` for the IBVS variants, ``seed`` for ``random``;
+        none for a learned model).
 
     Raises
     ------
     ValueError
-        If the name is unknown (the message lists the valid ones).
+        If the name is unknown (the message lists the valid ones), or a model file is missing
+        or corrupt.
     """
-    if name not in _FACTORIES:
-        raise ValueError(f"unknown policy {name!r}; valid: {list(POLICY_NAMES)}")
-    return _FACTORIES[name](**kwargs)
+    if name in _FACTORIES:
+        return _FACTORIES[name](**kwargs)
+    from agents.learned import load, shipped_models
+
+    if name in shipped_models() or Path(name).exists():
+        if kwargs:
+            raise ValueError(f"a learned model takes no arguments, got {sorted(kwargs)}")
+        return load(name)
+    valid = [*POLICY_NAMES, *shipped_models()]
+    raise ValueError(f"unknown policy {name!r}; valid: {valid} or a model directory")

@@ -98,7 +98,110 @@ def build_parser() -> argparse.ArgumentParser:
     reproduce.add_argument(
         "--no-figures", action="store_true", help="write the table and data only"
     )
+    evaluate = sub.add_parser(
+        "evaluate",
+        help="run one policy for N seeded episodes; print a summary, write JSON rows",
+        description=(
+            "Run a policy (ibvs, ibvs-current, ibvs-mean, ibvs-no-frame-change, oracle, random, "
+            "a shipped model such as ppo-paper-sim, or a model directory) on a scenario for N "
+            "episodes seeded S, S+1, ...; print the success rate (95%% Wilson interval) and the "
+            "errors; --json writes one row per episode."
+        ),
+    )
+    evaluate.add_argument("--policy", required=True, help="policy name or model directory")
+    evaluate.add_argument("--scenario", default="paper-sim", help="default: %(default)s")
+    evaluate.add_argument("--task", type=int, help="task index (default: drawn per episode)")
+    evaluate.add_argument("--episodes", type=int, default=10, help="default: %(default)s")
+    evaluate.add_argument("--seed", type=int, default=0, help="first seed (default: %(default)s)")
+    evaluate.add_argument(
+        "--env-kwarg",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="gym.make argument (YAML value), e.g. physics=kinematic or depth_scale=1.3",
+    )
+    evaluate.add_argument("--json", type=Path, help="write the per-episode rows here")
+
+    train = sub.add_parser(
+        "train",
+        help="train a stable-baselines3 agent from an rl-zoo3-style config",
+        description=(
+            "Train PPO (or SAC) with the hyper-parameters of an rl-zoo3-format YAML file "
+            "(configs/agents/ppo_parking.yaml): vectorised envs, observation normalisation, "
+            "evaluation on held-out seeds with best-model checkpointing, checkpoints, CSV "
+            "(and TensorBoard) logs, a progress bar. Writes a model directory that "
+            "`radial-ibvs evaluate --policy DIR` and agents.load(DIR) read."
+        ),
+    )
+    train.add_argument("--algo", choices=("ppo", "sac"), default="ppo")
+    train.add_argument("--config", type=Path, required=True, help="rl-zoo3-format YAML file")
+    train.add_argument("--env-id", help="config section (default: the file's only one)")
+    train.add_argument("--seed", type=int, default=0, help="default: %(default)s")
+    train.add_argument("--total-timesteps", type=int, help="default: the config's n_timesteps")
+    train.add_argument("--out", type=Path, default=Path("outputs/train"), help="model directory")
+    train.add_argument("--resume", type=Path, help="model directory to continue training from")
+    train.add_argument(
+        "--env-kwarg", action="append", default=[], metavar="KEY=VALUE", help="override"
+    )
+    train.add_argument("--no-progress", action="store_true", help="no progress bar")
     return parser
+
+
+def _evaluate(args: argparse.Namespace) -> int:
+    from radial_ibvs_gym.experiments import write_json
+    from radial_ibvs_gym.experiments.evaluate import evaluate, parse_env_kwargs, summarise
+
+    logs = evaluate(
+        args.policy,
+        args.scenario,
+        task=args.task,
+        episodes=args.episodes,
+        seed=args.seed,
+        env_kwargs=parse_env_kwargs(args.env_kwarg),
+    )
+    rows = [log.row() for log in logs]
+    summary = summarise(rows)
+    lo, hi = summary["success_ci95"]
+    print(f"{args.policy} on {args.scenario}: {summary['episodes']} episodes")
+    print(
+        f"  success {summary['success_rate']:.0%} (95% CI {lo:.0%}-{hi:.0%}), "
+        f"collisions {summary['collisions']}"
+    )
+    pos, head = summary["position_error_m_median"], summary["heading_error_deg_median"]
+    print(
+        f"  final position error median {100 * pos:.2f} cm "
+        f"(p95 {100 * summary['position_error_m_p95']:.2f}), heading error median "
+        f"{head:.2f} deg (p95 {summary['heading_error_deg_p95']:.2f})"
+    )
+    print(f"  compute {summary['compute_us_per_step']:.0f} us/step")
+    if args.json is not None:
+        print(f"saved {write_json(logs, args.json)}")
+    return 0
+
+
+def _train(args: argparse.Namespace) -> int:
+    import dataclasses
+
+    from agents.training import train
+    from agents.zoo import load_train_config
+    from radial_ibvs_gym.experiments.evaluate import parse_env_kwargs
+
+    config = load_train_config(args.config, args.env_id)
+    overrides = parse_env_kwargs(args.env_kwarg)
+    if overrides:
+        config = dataclasses.replace(config, env_kwargs={**config.env_kwargs, **overrides})
+    out = train(
+        config,
+        args.out,
+        algo=args.algo,
+        seed=args.seed,
+        total_timesteps=args.total_timesteps,
+        resume=args.resume,
+        progress=not args.no_progress,
+        command="radial-ibvs " + " ".join(args.argv),
+    )
+    print(f"saved {out}")
+    return 0
 
 
 def _reproduce(args: argparse.Namespace) -> int:
@@ -166,7 +269,9 @@ def _reproduce(args: argparse.Namespace) -> int:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run ``radial-ibvs``; returns the process exit code."""
+    argv = list(sys.argv[1:] if argv is None else argv)
     args = build_parser().parse_args(argv)
+    args.argv = argv  # the command line, for the metadata of what it writes
     if args.command == "demo":
         from radial_ibvs_gym.demo import run_demo, run_episode_demo
 
@@ -175,11 +280,13 @@ def main(argv: Sequence[str] | None = None) -> int:
         episode = args.out.with_name(f"{args.out.stem}-episode.png")
         print(f"saved {run_episode_demo(out=episode, task=args.task)}")
         return 0
-    if args.command == "reproduce":
+    commands = {"reproduce": _reproduce, "evaluate": _evaluate, "train": _train}
+    if args.command in commands:
         try:
-            return _reproduce(args)
-        except ValueError as error:  # bad scenario, task or value: a message, not a traceback
-            print(f"radial-ibvs reproduce: error: {error}", file=sys.stderr)
+            return commands[args.command](args)
+        except (ValueError, KeyError) as error:  # bad name, file or value: a message
+            message = error.args[0] if error.args else error
+            print(f"radial-ibvs {args.command}: error: {message}", file=sys.stderr)
             return 2
     raise AssertionError(f"unhandled command {args.command!r}")  # argparse rejects unknown ones
 

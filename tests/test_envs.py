@@ -355,3 +355,23 @@ def test_fast_observation_path_equals_projection_through_the_camera(scenario: st
             bearing = p_cam[:, :2] / np.hypot(p_cam[:, 0], p_cam[:, 1])[:, None]
             np.testing.assert_allclose(points[visible], bearing[visible], atol=1e-12)
             assert (points[~visible] == 0.0).all()
+
+
+def test_precision_shaping_is_the_difference_of_a_log_potential() -> None:
+    env = gym.make("RadialIBVS/Parking-v0", task=0, physics="kinematic", w_precision=2.0)
+    _, info = env.reset(seed=0)
+
+    def phi(i: dict) -> float:
+        return -math.log(i["position_error_m"] + 0.01) - 0.5 * math.log(
+            math.radians(i["heading_error_deg"]) + 0.02
+        )
+
+    before = phi(info)
+    _, reward, *_, info = env.step(np.array([1.0, 0.0], np.float32))
+    assert info["reward_terms"]["precision"] == pytest.approx(2.0 * (phi(info) - before))
+    assert reward == pytest.approx(sum(info["reward_terms"].values()))
+    default = gym.make("RadialIBVS/Parking-v0", task=0)
+    default.reset(seed=0)
+    assert default.step(np.zeros(2, np.float32))[-1]["reward_terms"]["precision"] == 0.0
+    with pytest.raises(ValueError, match="w_precision must be finite and >= 0"):
+        gym.make("RadialIBVS/Parking-v0", w_precision=float("nan"))

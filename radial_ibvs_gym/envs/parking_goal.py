@@ -76,7 +76,7 @@ class ParkingGoalEnv(ParkingEnv):
         terms["image_distance"] = float(
             self.compute_reward(obs["achieved_goal"], obs["desired_goal"], info)
         )
-        for key in ("progress", "heading", "time"):
+        for key in ("progress", "heading", "precision", "time"):
             terms.pop(key)
         return obs, float(sum(terms.values())), terminated, truncated, info
 

@@ -1,0 +1,257 @@
+"""``radial-ibvs train``: stable-baselines3 training from an rl-zoo3-style config.
+
+Vectorised envs, observation normalisation (``VecNormalize``), evaluation on held-out seeds
+with best-model checkpointing, periodic checkpoints, CSV (and TensorBoard, when installed) logs,
+a progress bar, resuming from a checkpoint; the result is a model directory that
+:func:`agents.learned.load` reads (``model.zip``, ``best_model.zip``, ``normalization.npz``,
+``metadata.json``, ``learning_curve.png``).
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import platform
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from stable_baselines3 import PPO, SAC
+from stable_baselines3.common.callbacks import BaseCallback, CheckpointCallback, EvalCallback
+from stable_baselines3.common.env_util import make_vec_env
+from stable_baselines3.common.logger import configure
+from stable_baselines3.common.vec_env import VecNormalize
+
+import radial_ibvs_gym  # noqa: F401  (registers the environments)
+from agents.zoo import TrainConfig
+
+__all__ = ["ALGOS", "save_normalization", "train"]
+
+ALGOS: dict[str, Any] = {"ppo": PPO, "sac": SAC}
+
+
+def save_normalization(venv: VecNormalize, path: Path) -> None:
+    """Write the observation statistics of a ``VecNormalize`` as plain arrays (no pickle)."""
+    rms = venv.obs_rms
+    arrays: dict[str, np.ndarray] = {
+        "clip_obs": np.array(venv.clip_obs),
+        "epsilon": np.array(venv.epsilon),
+    }
+    items = rms.items() if isinstance(rms, dict) else [("obs", rms)]
+    for key, stats in items:
+        arrays[f"mean/{key}"] = np.asarray(stats.mean, dtype=np.float32)
+        arrays[f"var/{key}"] = np.asarray(stats.var, dtype=np.float32)
+    np.savez(path, **arrays)  # type: ignore[arg-type]
+
+
+class _SaveNormalizationOnBest(BaseCallback):
+    """With ``EvalCallback``'s ``callback_on_new_best``: keep the statistics of the best model."""
+
+    def __init__(self, venv: VecNormalize | None, path: Path) -> None:
+        super().__init__()
+        self.venv, self.path = venv, path
+
+    def _on_step(self) -> bool:
+        if self.venv is not None:
+            save_normalization(self.venv, self.path)
+        return True
+
+
+def _git_revision() -> str:
+    try:
+        out = subprocess.run(
+            ["git", "rev-parse", "HEAD"],
+            capture_output=True,
+            text=True,
+            check=True,
+            cwd=Path(__file__).resolve().parent,
+        )
+        return out.stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+
+
+def _jsonable(value: Any) -> Any:
+    if isinstance(value, dict):
+        return {str(k): _jsonable(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [_jsonable(v) for v in value]
+    if isinstance(value, str | int | float | bool) or value is None:
+        return value
+    return repr(value)
+
+
+def train(
+    config: TrainConfig,
+    out_dir: Path | str,
+    *,
+    algo: str = "ppo",
+    seed: int = 0,
+    total_timesteps: int | None = None,
+    resume: Path | str | None = None,
+    progress: bool = True,
+    command: str | None = None,
+) -> Path:
+    """Train a model and write its directory.
+
+    Parameters
+    ----------
+    config
+        The validated configuration (:func:`agents.zoo.load_train_config`).
+    out_dir
+        Output directory (created).
+    algo
+        ``"ppo"`` (or ``"sac"``, for a ``Box`` action space as here).
+    seed
+        Seed of the training envs and the algorithm.
+    total_timesteps
+        Overrides the config's ``n_timesteps``.
+    resume
+        A model directory (or ``model.zip``) to continue from; its normalisation statistics
+        are restored too.
+    progress
+        Show a progress bar.
+    command
+        The command line, for the metadata (default: ``sys.argv``).
+
+    Returns
+    -------
+    pathlib.Path
+        The model directory.
+    """
+    if algo not in ALGOS:
+        raise ValueError(f"unknown algo {algo!r}; valid: {sorted(ALGOS)}")
+    steps = config.n_timesteps if total_timesteps is None else int(total_timesteps)
+    if steps <= 0:
+        raise ValueError(f"total_timesteps must be positive, got {steps!r}")
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    venv: Any = make_vec_env(
+        config.env_id, n_envs=config.n_envs, seed=seed, env_kwargs=config.env_kwargs
+    )
+    eval_env: Any = make_vec_env(
+        config.env_id, n_envs=1, seed=config.eval_seed, env_kwargs=config.env_kwargs
+    )
+    if config.normalize is not None:
+        venv = VecNormalize(venv, **config.normalize)
+        eval_env = VecNormalize(eval_env, training=False, norm_reward=False)
+    if resume is not None:
+        resume_path = Path(resume)
+        directory = resume_path.parent if resume_path.suffix == ".zip" else resume_path
+        zip_path = resume_path if resume_path.suffix == ".zip" else resume_path / "model.zip"
+        if not zip_path.is_file():
+            raise ValueError(f"cannot resume: {zip_path} not found")
+        if isinstance(venv, VecNormalize) and (directory / "vecnormalize.pkl").is_file():
+            venv = VecNormalize.load(str(directory / "vecnormalize.pkl"), venv.venv)
+        model = ALGOS[algo].load(zip_path, env=venv, device="cpu")
+    else:
+        model = ALGOS[algo](
+            config.policy,
+            venv,
+            seed=seed,
+            policy_kwargs=config.policy_kwargs,
+            device="cpu",
+            verbose=0,
+            **config.algo_kwargs,
+        )
+    formats = ["csv"] + (["tensorboard"] if importlib.util.find_spec("tensorboard") else [])
+    model.set_logger(configure(str(out / "logs"), formats))
+    best_dir = out / "best"
+    evaluation = EvalCallback(
+        eval_env,
+        n_eval_episodes=config.eval_episodes,
+        eval_freq=max(config.eval_freq // config.n_envs, 1),
+        best_model_save_path=str(best_dir),
+        log_path=str(out / "eval"),
+        deterministic=True,
+        verbose=0,
+        callback_on_new_best=_SaveNormalizationOnBest(
+            venv if isinstance(venv, VecNormalize) else None, best_dir / "normalization.npz"
+        ),
+    )
+    checkpoints = CheckpointCallback(
+        save_freq=max(10 * config.eval_freq // config.n_envs, 1),
+        save_path=str(out / "checkpoints"),
+        save_vecnormalize=True,
+    )
+    start = time.perf_counter()
+    model.learn(
+        steps,
+        callback=[evaluation, checkpoints],
+        progress_bar=progress,
+        reset_num_timesteps=resume is None,
+    )
+    wall = time.perf_counter() - start
+    model.save(out / "model.zip")
+    if isinstance(venv, VecNormalize):
+        save_normalization(venv, out / "normalization.npz")
+        venv.save(str(out / "vecnormalize.pkl"))  # for resuming (a pickle: not shipped)
+    curve = _learning_curve(out / "eval" / "evaluations.npz")
+    metadata = {
+        "algo": algo,
+        "env_id": config.env_id,
+        "env_kwargs": _jsonable(config.env_kwargs),
+        "seed": seed,
+        "total_timesteps": int(model.num_timesteps),
+        "command": command or " ".join(sys.argv),
+        "config": _jsonable(config.source),
+        "git_revision": _git_revision(),
+        "versions": {
+            "python": platform.python_version(),
+            "stable_baselines3": __import__("stable_baselines3").__version__,
+            "torch": __import__("torch").__version__,
+            "gymnasium": __import__("gymnasium").__version__,
+        },
+        "wall_clock_s": round(wall, 1),
+        "env_steps_per_s": round(steps / wall, 1),
+        "learning_curve": curve,
+    }
+    (out / "metadata.json").write_text(json.dumps(metadata, indent=1) + "\n")
+    if (best_dir / "best_model.zip").is_file():
+        shutil.copy(best_dir / "best_model.zip", out / "best_model.zip")
+    if curve:
+        _plot_learning_curve(curve, out / "learning_curve.png", f"{algo} on {config.env_id}")
+    return out
+
+
+def _learning_curve(path: Path) -> list[dict[str, float]]:
+    """Read the evaluations over training: timesteps, mean return, success rate."""
+    if not path.is_file():
+        return []
+    with np.load(path) as data:
+        steps, results = data["timesteps"], data["results"]
+        successes = data["successes"] if "successes" in data.files else None
+    curve = []
+    for k, t in enumerate(steps):
+        row = {"timesteps": int(t), "mean_return": float(np.mean(results[k]))}
+        if successes is not None and len(successes[k]):
+            row["success_rate"] = float(np.mean(successes[k]))
+        curve.append(row)
+    return curve
+
+
+def _plot_learning_curve(curve: list[dict[str, float]], path: Path, title: str) -> None:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    fig, ax = plt.subplots(figsize=(6, 3.5))
+    t = [row["timesteps"] for row in curve]
+    ax.plot(t, [row["mean_return"] for row in curve], color="C0", label="mean return")
+    ax.set_xlabel("env steps")
+    ax.set_ylabel("mean return (held-out seeds)")
+    if "success_rate" in curve[0]:
+        twin = ax.twinx()
+        twin.plot(t, [row.get("success_rate", np.nan) for row in curve], color="C3")
+        twin.set_ylabel("success rate", color="C3")
+        twin.set_ylim(-0.05, 1.05)
+    ax.set_title(title)
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)

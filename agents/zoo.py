@@ -1,0 +1,225 @@
+"""Agent hyper-parameters in rl-zoo3's YAML format, validated on load.
+
+A config file has one section per env id, as rl-zoo3's ``hyperparams/<algo>.yml``
+(``n_envs``, ``n_timesteps``, ``policy``, ``normalize``, ``policy_kwargs`` as a string, the
+algorithm's keyword arguments, ``lin_<x>`` schedules), so ``python -m rl_zoo3.train
+--gym-packages radial_ibvs_gym --conf-file <file>`` reads it too, and a ``radial_ibvs_gym``
+section that rl-zoo3 ignores: the env's ``gym.make`` arguments and the evaluation settings.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+__all__ = ["TrainConfig", "load_train_config", "parse_kwargs_string"]
+
+#: rl-zoo3's keys that are not the algorithm's keyword arguments
+_ZOO_KEYS = {"n_envs", "n_timesteps", "policy", "normalize", "policy_kwargs", "env_wrapper"}
+_META_KEYS = {"env_kwargs", "eval_freq", "eval_episodes", "eval_seed"}
+
+
+@dataclass(frozen=True)
+class TrainConfig:
+    """A validated training configuration.
+
+    Attributes
+    ----------
+    env_id
+        The Gymnasium id (the section's name).
+    n_envs
+        Parallel envs.
+    n_timesteps
+        Total env steps.
+    policy
+        SB3 policy name (``MultiInputPolicy`` for the Dict observations).
+    normalize
+        ``VecNormalize`` keyword arguments, or ``None`` for no normalisation.
+    policy_kwargs
+        Policy keyword arguments (parsed from rl-zoo3's string form).
+    algo_kwargs
+        The algorithm's other keyword arguments (schedules already built).
+    env_kwargs
+        ``gym.make`` keyword arguments.
+    eval_freq, eval_episodes, eval_seed
+        Evaluation every ``eval_freq`` env steps on ``eval_episodes`` held-out episodes seeded
+        from ``eval_seed``.
+    source
+        The file and section it came from, and the raw section (for the model's metadata).
+    """
+
+    env_id: str
+    n_envs: int
+    n_timesteps: int
+    policy: str
+    normalize: dict[str, Any] | None
+    policy_kwargs: dict[str, Any]
+    algo_kwargs: dict[str, Any]
+    env_kwargs: dict[str, Any]
+    eval_freq: int = 25_000
+    eval_episodes: int = 20
+    eval_seed: int = 10_000
+    source: dict[str, Any] = field(default_factory=dict)
+
+
+def parse_kwargs_string(text: str, where: str) -> dict[str, Any]:
+    """Parse rl-zoo3's ``"dict(key=value, ...)"`` strings safely (literals and ``nn.<Name>``).
+
+    Parameters
+    ----------
+    text
+        E.g. ``"dict(net_arch=[256, 256], activation_fn=nn.ReLU)"``.
+    where
+        Where it came from, for error messages.
+
+    Raises
+    ------
+    ValueError
+        If it is not a ``dict(...)`` call of literals and ``nn`` activation names.
+    """
+    import ast
+
+    try:
+        tree = ast.parse(text.strip(), mode="eval").body
+    except SyntaxError as error:
+        raise ValueError(f"{where}: cannot parse {text!r}: {error.msg}") from None
+    if not (isinstance(tree, ast.Call) and isinstance(tree.func, ast.Name)):
+        raise ValueError(f"{where}: expected 'dict(...)', got {text!r}")
+    if tree.func.id != "dict" or tree.args:
+        raise ValueError(f"{where}: expected 'dict(key=value, ...)', got {text!r}")
+    out: dict[str, Any] = {}
+    for keyword in tree.keywords:
+        if keyword.arg is None:
+            raise ValueError(f"{where}: '**' is not supported in {text!r}")
+        out[keyword.arg] = _literal(keyword.value, where, text)
+    return out
+
+
+def _literal(node: Any, where: str, text: str) -> Any:
+    import ast
+
+    if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name):
+        if node.value.id in ("nn", "th.nn", "torch.nn"):
+            from torch import nn
+
+            if not hasattr(nn, node.attr):
+                raise ValueError(f"{where}: torch.nn has no {node.attr!r} (in {text!r})")
+            return getattr(nn, node.attr)
+    if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "dict":
+        return parse_kwargs_string(ast.unparse(node), where)
+    try:
+        return ast.literal_eval(node)
+    except ValueError:
+        raise ValueError(
+            f"{where}: only literals, dict(...) and nn.<Name> are allowed, got "
+            f"{ast.unparse(node)!r} in {text!r}"
+        ) from None
+
+
+def _schedule(value: Any, where: str) -> Any:
+    """rl-zoo3's ``lin_<x>``: a linear schedule from ``x`` to 0 over training."""
+    if isinstance(value, str) and value.startswith("lin_"):
+        try:
+            start = float(value[4:])
+        except ValueError:
+            raise ValueError(f"{where}: bad linear schedule {value!r}") from None
+
+        def linear(progress_remaining: float) -> float:
+            return progress_remaining * start
+
+        schedule: Callable[[float], float] = linear
+        return schedule
+    return value
+
+
+def _positive_int(section: Mapping[str, Any], key: str, default: int, where: str) -> int:
+    value = section.get(key, default)
+    if isinstance(value, float) and value.is_integer():
+        value = int(value)
+    if not isinstance(value, int) or isinstance(value, bool) or value <= 0:
+        raise ValueError(f"{where}.{key} must be a positive integer, got {value!r}")
+    return value
+
+
+def load_train_config(path: Path | str, env_id: str | None = None) -> TrainConfig:
+    """Load and validate a training configuration.
+
+    Parameters
+    ----------
+    path
+        The YAML file (rl-zoo3 format plus the ``radial_ibvs_gym`` section).
+    env_id
+        The section to use; default: the file's only env section.
+
+    Raises
+    ------
+    ValueError
+        For a missing file or section, an unknown key of the ``radial_ibvs_gym`` section, or a
+        bad value (the message names it).
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"config file {str(path)!r} not found")
+    try:
+        data = yaml.safe_load(path.read_text())
+    except yaml.YAMLError as error:
+        raise ValueError(f"{path}: not valid YAML: {error}") from None
+    if not isinstance(data, Mapping):
+        raise ValueError(f"{path}: expected a mapping of env ids to hyper-parameters")
+    meta = dict(data.get("radial_ibvs_gym") or {})
+    sections = [k for k in data if k != "radial_ibvs_gym"]
+    if env_id is None:
+        if len(sections) != 1:
+            raise ValueError(f"{path}: several env sections {sections}; choose one with --env-id")
+        env_id = sections[0]
+    if env_id not in data:
+        raise ValueError(f"{path}: no section for env id {env_id!r}; found {sections}")
+    section = dict(data[env_id] or {})
+    where = f"{path.name}[{env_id!r}]"
+    unknown = sorted(set(meta) - _META_KEYS)
+    if unknown:
+        raise ValueError(f"{path.name}[radial_ibvs_gym]: unknown key(s) {unknown}")
+    if "env_wrapper" in section:
+        raise ValueError(f"{where}.env_wrapper is not supported; use env_kwargs instead")
+    normalize = section.get("normalize", False)
+    if isinstance(normalize, str):
+        normalize = parse_kwargs_string(normalize, f"{where}.normalize")
+    elif normalize is True:
+        normalize = {}
+    elif normalize is False:
+        normalize = None
+    else:
+        raise ValueError(f"{where}.normalize must be a bool or 'dict(...)', got {normalize!r}")
+    policy_kwargs = section.get("policy_kwargs", {})
+    if isinstance(policy_kwargs, str):
+        policy_kwargs = parse_kwargs_string(policy_kwargs, f"{where}.policy_kwargs")
+    algo_kwargs = {
+        key: _schedule(value, f"{where}.{key}")
+        for key, value in section.items()
+        if key not in _ZOO_KEYS
+    }
+    for key, value in algo_kwargs.items():
+        if isinstance(value, float) and not math.isfinite(value):
+            raise ValueError(f"{where}.{key} must be finite, got {value!r}")
+    env_kwargs = meta.get("env_kwargs") or {}
+    if not isinstance(env_kwargs, Mapping):
+        raise ValueError(f"{path.name}[radial_ibvs_gym].env_kwargs must be a mapping")
+    return TrainConfig(
+        env_id=env_id,
+        n_envs=_positive_int(section, "n_envs", 1, where),
+        n_timesteps=_positive_int(section, "n_timesteps", 1_000_000, where),
+        policy=str(section.get("policy", "MultiInputPolicy")),
+        normalize=normalize,
+        policy_kwargs=dict(policy_kwargs),
+        algo_kwargs=algo_kwargs,
+        env_kwargs=dict(env_kwargs),
+        eval_freq=_positive_int(meta, "eval_freq", 25_000, f"{path.name}[radial_ibvs_gym]"),
+        eval_episodes=_positive_int(meta, "eval_episodes", 20, f"{path.name}[radial_ibvs_gym]"),
+        eval_seed=int(meta.get("eval_seed", 10_000)),
+        source={"file": str(path), "env_id": env_id, "section": section, "meta": meta},
+    )

@@ -1,0 +1,117 @@
+"""``radial-ibvs evaluate``: run one policy on a scenario for a number of seeded episodes."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+import yaml
+from tqdm.auto import tqdm
+
+import radial_ibvs_gym  # noqa: F401  (registers the environments)
+from agents import make_policy
+from agents.rollout import EpisodeLog, run_episode
+
+__all__ = ["env_kwargs_for", "evaluate", "parse_env_kwargs", "summarise", "wilson_interval"]
+
+
+def parse_env_kwargs(pairs: Sequence[str]) -> dict[str, Any]:
+    """``KEY=VALUE`` strings to keyword arguments; values are read as YAML (numbers, lists...).
+
+    Raises
+    ------
+    ValueError
+        For an item without ``=`` or a value that is not valid YAML.
+    """
+    out: dict[str, Any] = {}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        if not sep or not key:
+            raise ValueError(f"--env-kwarg expects KEY=VALUE, got {pair!r}")
+        try:
+            out[key] = yaml.safe_load(value)
+        except yaml.YAMLError:
+            raise ValueError(f"--env-kwarg {key}: cannot read {value!r}") from None
+    return out
+
+
+def env_kwargs_for(policy: Any, scenario: str, overrides: Mapping[str, Any]) -> dict[str, Any]:
+    """Merge the ``gym.make`` arguments: the policy's needs, the scenario, the overrides."""
+    return {**policy.env_kwargs, "scenario": scenario, **overrides}
+
+
+def evaluate(
+    policy_name: str,
+    scenario: str = "paper-sim",
+    *,
+    task: int | None = None,
+    episodes: int = 10,
+    seed: int = 0,
+    env_kwargs: Mapping[str, Any] | None = None,
+    env_id: str = "RadialIBVS/Parking-v0",
+    suite: str | None = None,
+    progress: bool = True,
+) -> list[EpisodeLog]:
+    """Run ``episodes`` episodes seeded ``seed, seed + 1, ...``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown policy, scenario or argument, or a learned model whose observation
+        space differs from the env's.
+    """
+    if episodes <= 0:
+        raise ValueError(f"episodes must be positive, got {episodes!r}")
+    policy = make_policy(policy_name)
+    kwargs = env_kwargs_for(policy, scenario, env_kwargs or {})
+    if task is not None:
+        kwargs["task"] = task
+    env = gym.make(env_id, **kwargs)
+    if hasattr(policy, "check_observation_space"):
+        policy.check_observation_space(env.observation_space)
+    logs = []
+    for k in tqdm(range(episodes), desc=policy_name, disable=not progress, unit="ep"):
+        log = run_episode(policy, env, seed=seed + k, policy_name=policy_name)
+        if suite is not None:
+            log.extra["suite"] = suite
+        logs.append(log)
+    env.close()
+    return logs
+
+
+def wilson_interval(successes: int, n: int, z: float = 1.959963984540054) -> tuple[float, float]:
+    """95 % Wilson score interval of a success rate (sound for small ``n`` and 0 or 1 rates)."""
+    if n == 0:
+        return (math.nan, math.nan)
+    p = successes / n
+    centre = (p + z * z / (2 * n)) / (1 + z * z / n)
+    half = z * math.sqrt(p * (1 - p) / n + z * z / (4 * n * n)) / (1 + z * z / n)
+    return (max(0.0, centre - half), min(1.0, centre + half))
+
+
+def summarise(rows: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
+    """Success rate with its 95 % interval, and medians / 95th percentiles of the errors."""
+    n = len(rows)
+    wins = sum(bool(r["success"]) for r in rows)
+    lo, hi = wilson_interval(wins, n)
+    pos = np.array([r["final_position_error_m"] for r in rows])
+    head = np.array([r["final_heading_error_deg"] for r in rows])
+    parked = [r for r in rows if r["success"]]
+    return {
+        "episodes": n,
+        "success_rate": wins / n if n else math.nan,
+        "success_ci95": (lo, hi),
+        "position_error_m_median": float(np.median(pos)) if n else math.nan,
+        "position_error_m_p95": float(np.percentile(pos, 95)) if n else math.nan,
+        "heading_error_deg_median": float(np.median(head)) if n else math.nan,
+        "heading_error_deg_p95": float(np.percentile(head, 95)) if n else math.nan,
+        "time_s_median": float(np.median([r["time_s"] for r in parked])) if parked else math.nan,
+        "path_m_median": (
+            float(np.median([r["path_length_m"] for r in parked])) if parked else math.nan
+        ),
+        "collisions": sum(bool(r["collision"]) for r in rows),
+        "compute_us_per_step": float(np.mean([r["compute_us_per_step"] for r in rows])),
+    }

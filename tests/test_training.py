@@ -1,0 +1,163 @@
+"""Training (a smoke run), the rl-zoo3 config format, loading models, ``evaluate``."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import radial_ibvs_gym  # noqa: F401
+from agents import make_policy
+from agents.learned import LearnedPolicy, load
+from agents.training import train
+from agents.zoo import load_train_config, parse_kwargs_string
+from radial_ibvs_gym.cli import main
+
+CONFIG = Path(__file__).resolve().parents[1] / "configs" / "agents" / "ppo_parking.yaml"
+
+
+@pytest.fixture(scope="module")
+def trained(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """A few hundred steps of PPO through the CLI (the smoke run CI can afford)."""
+    out = tmp_path_factory.mktemp("train") / "ppo"
+    argv = ["train", "--algo", "ppo", "--config", str(CONFIG), "--total-timesteps", "512"]
+    argv += ["--out", str(out), "--seed", "3", "--no-progress", "--env-kwarg", "task=1"]
+    assert main(argv) == 0
+    return out
+
+
+def test_shipped_config_is_valid_rl_zoo3_format() -> None:
+    config = load_train_config(CONFIG)
+    assert config.env_id == "RadialIBVS/Parking-v0"
+    assert config.policy == "MultiInputPolicy" and config.n_envs >= 1
+    assert config.policy_kwargs["net_arch"] == [256, 256]
+    assert config.normalize is not None and config.normalize["norm_obs"] is True
+    assert config.env_kwargs["scenario"] == "paper-sim"
+    gym.make(config.env_id, **config.env_kwargs)  # the env arguments are valid
+
+
+def test_training_writes_a_loadable_model_directory(trained: Path) -> None:
+    for name in ("model.zip", "normalization.npz", "metadata.json", "vecnormalize.pkl"):
+        assert (trained / name).is_file(), name
+    metadata = json.loads((trained / "metadata.json").read_text())
+    assert metadata["algo"] == "ppo" and metadata["seed"] == 3
+    assert metadata["env_kwargs"]["task"] == 1
+    assert metadata["total_timesteps"] >= 512
+    assert "radial-ibvs train" in metadata["command"] and metadata["git_revision"]
+    policy = load(trained)
+    assert isinstance(policy, LearnedPolicy)
+    env = gym.make("RadialIBVS/Parking-v0", **policy.env_kwargs)
+    policy.check_observation_space(env.observation_space)
+    obs, _ = env.reset(seed=0)
+    action, _ = policy.predict(obs)
+    assert action.shape == (2,) and env.action_space.contains(action)
+    batch = {k: np.stack([v, v]) for k, v in obs.items()}
+    actions, _ = policy.predict(batch)
+    np.testing.assert_allclose(actions, [action, action], atol=1e-6)
+
+
+def test_learned_policy_matches_sb3_with_vecnormalize(trained: Path) -> None:
+    # our plain-array normalisation must equal VecNormalize's, so the model sees the same input
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.env_util import make_vec_env
+    from stable_baselines3.common.vec_env import VecNormalize
+
+    policy = load(trained)
+    venv = make_vec_env("RadialIBVS/Parking-v0", n_envs=1, env_kwargs=policy.env_kwargs)
+    venv = VecNormalize.load(str(trained / "vecnormalize.pkl"), venv)
+    venv.training = False
+    obs = venv.reset()
+    expected, _ = PPO.load(trained / "model.zip").predict(obs, deterministic=True)
+    raw = venv.get_original_obs()
+    ours, _ = policy.predict(raw)
+    np.testing.assert_allclose(ours, expected, atol=1e-5)
+
+
+def test_training_resumes_from_its_checkpoint(trained: Path, tmp_path: Path) -> None:
+    config = load_train_config(CONFIG)
+    config = type(config)(
+        **{**config.__dict__, "n_envs": 2, "env_kwargs": {**config.env_kwargs, "task": 1}}
+    )
+    out = train(config, tmp_path / "more", resume=trained, total_timesteps=256, progress=False)
+    metadata = json.loads((out / "metadata.json").read_text())
+    assert (
+        metadata["total_timesteps"]
+        > json.loads((trained / "metadata.json").read_text())["total_timesteps"]
+    )
+
+
+def test_evaluate_cli_runs_a_learned_model_and_writes_rows(
+    trained: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    rows_path = tmp_path / "rows.json"
+    argv = ["evaluate", "--policy", str(trained), "--episodes", "2", "--task", "1"]
+    assert main([*argv, "--env-kwarg", "physics=kinematic", "--json", str(rows_path)]) == 0
+    rows = json.loads(rows_path.read_text())
+    assert len(rows) == 2 and {r["seed"] for r in rows} == {0, 1}
+    assert "episodes" in capsys.readouterr().out
+
+
+def test_a_model_on_a_different_observation_space_is_refused(trained: Path) -> None:
+    policy = load(trained)
+    env = gym.make("RadialIBVS/Parking-v0", obs_mode="points")
+    with pytest.raises(ValueError, match="lacks"):
+        policy.check_observation_space(env.observation_space)
+    env = gym.make("RadialIBVS/Parking-v0", scenario="paper-lab", obs_mode="features")
+    with pytest.raises(ValueError, match="shape"):
+        policy.check_observation_space(env.observation_space)
+
+
+def test_missing_corrupt_and_unknown_models_are_named(trained: Path, tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match="unknown policy 'ppo-nowhere'"):
+        make_policy("ppo-nowhere")
+    empty = tmp_path / "empty"
+    empty.mkdir()
+    with pytest.raises(ValueError, match=r"model\.zip is missing"):
+        load(empty)
+    broken = tmp_path / "broken"
+    broken.mkdir()
+    (broken / "model.zip").write_bytes(b"not a zip")
+    (broken / "metadata.json").write_text((trained / "metadata.json").read_text())
+    with pytest.raises(ValueError, match="corrupt"):
+        load(broken)
+    (broken / "metadata.json").write_text("{not json")
+    with pytest.raises(ValueError, match="corrupt"):
+        load(broken)
+
+
+@pytest.mark.parametrize(
+    ("text", "match"),
+    [
+        ("dict(net_arch=[64, 64], activation_fn=nn.Nope)", "no 'Nope'"),
+        ("dict(x=__import__('os'))", "only literals"),
+        ("list(1, 2)", "expected 'dict"),
+        ("dict(", "cannot parse"),
+    ],
+)
+def test_zoo_strings_are_parsed_safely(text: str, match: str) -> None:
+    with pytest.raises(ValueError, match=match):
+        parse_kwargs_string(text, "test")
+
+
+def test_zoo_strings_accept_literals_and_activations() -> None:
+    from torch import nn
+
+    out = parse_kwargs_string("dict(net_arch=dict(pi=[64], vf=[64]), activation_fn=nn.ReLU)", "t")
+    assert out == {"net_arch": {"pi": [64], "vf": [64]}, "activation_fn": nn.ReLU}
+
+
+def test_bad_config_values_are_named(tmp_path: Path) -> None:
+    path = tmp_path / "bad.yaml"
+    path.write_text("RadialIBVS/Parking-v0:\n  n_envs: 0\n")
+    with pytest.raises(ValueError, match="n_envs must be a positive integer"):
+        load_train_config(path)
+    path.write_text("RadialIBVS/Parking-v0: {}\nradial_ibvs_gym:\n  evalfreq: 3\n")
+    with pytest.raises(ValueError, match="unknown key"):
+        load_train_config(path)
+    with pytest.raises(ValueError, match="no section for env id"):
+        load_train_config(CONFIG, "CartPole-v1")
+    with pytest.raises(ValueError, match="not found"):
+        load_train_config(tmp_path / "missing.yaml")
