@@ -79,6 +79,20 @@ class EpisodeLog:
         return float(np.linalg.norm(np.diff(self.poses[:, :2], axis=0), axis=1).sum())
 
     @property
+    def control_effort(self) -> float:
+        """Mean squared action (actions are fractions of the speed limits), 0 to 2."""
+        if self.steps == 0:
+            return 0.0
+        return float(np.mean(np.sum(self.actions**2, axis=1)))
+
+    @property
+    def smoothness(self) -> float:
+        """Mean change of the action from one step to the next (0: perfectly smooth)."""
+        if self.steps < 2:
+            return 0.0
+        return float(np.mean(np.linalg.norm(np.diff(self.actions, axis=0), axis=1)))
+
+    @property
     def success(self) -> bool:
         """Whether the env reported success at the end."""
         return bool(self.info.get("is_success", False))
@@ -101,6 +115,8 @@ class EpisodeLog:
             "path_length_m": self.path_length_m,
             "collision": bool(self.info.get("collision", False)),
             "compute_us_per_step": 1e6 * self.compute_s / steps,
+            "control_effort": self.control_effort,
+            "smoothness": self.smoothness,
             **{k: v for k, v in self.extra.items() if k != "suite"},
         }
 

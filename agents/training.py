@@ -95,6 +95,7 @@ def train(
     resume: Path | str | None = None,
     progress: bool = True,
     command: str | None = None,
+    torch_threads: int = 1,
 ) -> Path:
     """Train a model and write its directory.
 
@@ -117,6 +118,10 @@ def train(
         Show a progress bar.
     command
         The command line, for the metadata (default: ``sys.argv``).
+    torch_threads
+        Threads for torch. One is fastest for these small networks: the envs dominate, and
+        more threads than free cores make torch's busy-waiting threads slow everything down
+        (measured: 300 instead of 1,600 steps/s with two trainings on two cores).
 
     Returns
     -------
@@ -130,6 +135,9 @@ def train(
         raise ValueError(f"total_timesteps must be positive, got {steps!r}")
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
+    import torch
+
+    torch.set_num_threads(torch_threads)
     venv: Any = make_vec_env(
         config.env_id, n_envs=config.n_envs, seed=seed, env_kwargs=config.env_kwargs
     )

@@ -144,7 +144,64 @@ def build_parser() -> argparse.ArgumentParser:
         "--env-kwarg", action="append", default=[], metavar="KEY=VALUE", help="override"
     )
     train.add_argument("--no-progress", action="store_true", help="no progress bar")
+    bench = sub.add_parser(
+        "benchmark",
+        help="run every policy on the same suites and seeds; table, CSV, JSON rows, plots",
+        description=(
+            "Run the policies on the suites (paper: the four tasks with d* and 1.3 d*; random: "
+            "200 random rooms and start/goal pairs, the domain of convergence; noise: 0, 0.5, "
+            "1, 2 px; calibration: principal-point and focal-ratio errors; mirror-swap: the "
+            "goal image through mirror B; physics: pymunk vs kinematic). Prints a table and "
+            "writes episodes.csv, episodes.json, summary.md and plots into --out."
+        ),
+    )
+    bench.add_argument("--suites", nargs="+", help="default: all")
+    bench.add_argument(
+        "--policies", nargs="+", help="default: the analytic policies and every shipped model"
+    )
+    bench.add_argument("--episodes", type=int, help="per suite variant (default: 200 random, 8)")
+    bench.add_argument("--workers", type=int, default=2, help="processes (default: %(default)s)")
+    bench.add_argument("--out", type=Path, default=Path("outputs/benchmark"), help="folder")
+    bench.add_argument("--json", type=Path, help="also write the per-episode rows here")
+    bench.add_argument("--no-progress", action="store_true", help="no progress bar")
     return parser
+
+
+def _benchmark(args: argparse.Namespace) -> int:
+    import json
+
+    from rich.console import Console
+
+    from agents import POLICY_NAMES
+    from agents.learned import shipped_models
+    from radial_ibvs_gym.experiments import write_atomic
+    from radial_ibvs_gym.experiments.benchmark import (
+        rich_table,
+        run_benchmark,
+        summary_rows,
+        write_outputs,
+    )
+    from radial_ibvs_gym.experiments.suites import SUITES
+
+    policies = args.policies or [*POLICY_NAMES, *shipped_models()]
+    results = run_benchmark(
+        policies,
+        args.suites or list(SUITES),
+        episodes=args.episodes,
+        workers=args.workers,
+        progress=not args.no_progress,
+    )
+    Console().print(rich_table(summary_rows(results)))
+    for result in results:
+        if result.skipped:
+            print(f"skipped {result.job.policy} on {result.job.variant.suite}: {result.skipped}")
+    written = write_outputs(results, args.out)
+    if args.json is not None:
+        rows = [row for result in results for row in result.rows]
+        written.append(write_atomic(args.json, json.dumps(rows, indent=1) + "\n"))
+    for path in written:
+        print(f"saved {path}")
+    return 0
 
 
 def _evaluate(args: argparse.Namespace) -> int:
@@ -280,7 +337,12 @@ def main(argv: Sequence[str] | None = None) -> int:
         episode = args.out.with_name(f"{args.out.stem}-episode.png")
         print(f"saved {run_episode_demo(out=episode, task=args.task)}")
         return 0
-    commands = {"reproduce": _reproduce, "evaluate": _evaluate, "train": _train}
+    commands = {
+        "reproduce": _reproduce,
+        "evaluate": _evaluate,
+        "train": _train,
+        "benchmark": _benchmark,
+    }
     if args.command in commands:
         try:
             return commands[args.command](args)

@@ -1,0 +1,124 @@
+"""The benchmark's plots: success per suite, the domain of convergence, paths side by side."""
+
+from __future__ import annotations
+
+import io
+import math
+from collections.abc import Sequence
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import numpy as np
+
+from radial_ibvs_gym.experiments.reproduce import write_atomic
+
+if TYPE_CHECKING:
+    from radial_ibvs_gym.experiments.benchmark import JobResult
+
+__all__ = ["plot_convergence_map", "plot_success", "plot_trajectories"]
+
+
+def _pyplot() -> Any:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def _save(fig: Any, path: Path) -> Path:
+    buffer = io.BytesIO()
+    fig.savefig(buffer, format="png", dpi=110)
+    _pyplot().close(fig)
+    return write_atomic(path, buffer.getvalue())
+
+
+def plot_success(summaries: Sequence[dict[str, Any]], path: Path) -> Path:
+    """Draw grouped bars: success rate (with its 95 % interval) per suite variant and policy."""
+    plt = _pyplot()
+    policies = list(dict.fromkeys(s["policy"] for s in summaries))
+    groups = list(dict.fromkeys((s["suite"], s["variant"]) for s in summaries))
+    index = {(s["suite"], s["variant"], s["policy"]): s for s in summaries}
+    width = 0.8 / len(policies)
+    fig, ax = plt.subplots(figsize=(max(6.0, 0.9 * len(groups) * (1 + 0.3 * len(policies))), 4))
+    for p, policy in enumerate(policies):
+        x: list[float] = []
+        rate: list[float] = []
+        err: list[list[float]] = [[], []]
+        for g, (suite, variant) in enumerate(groups):
+            s = index.get((suite, variant, policy))
+            if s is None:
+                continue
+            lo, hi = s["success_ci95"]
+            x.append(g + (p - (len(policies) - 1) / 2) * width)
+            rate.append(s["success_rate"])
+            err[0].append(s["success_rate"] - lo)
+            err[1].append(hi - s["success_rate"])
+        ax.bar(x, rate, width, yerr=err, capsize=2, label=policy, color=f"C{p % 10}")
+    ax.set_xticks(range(len(groups)))
+    ax.set_xticklabels([f"{s}\n{v}" for s, v in groups], fontsize=7)
+    ax.set_ylabel("success rate (95% CI)")
+    ax.set_ylim(0, 1.05)
+    ax.legend(fontsize=7, ncol=min(len(policies), 4))
+    ax.grid(axis="y", alpha=0.3)
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_convergence_map(rows: Sequence[dict[str, Any]], path: Path) -> Path:
+    """Start positions of the ``random`` suite in the goal's frame, by outcome, one panel each."""
+    plt = _pyplot()
+    rows = [r for r in rows if r["suite"] == "random"]
+    policies = list(dict.fromkeys(r["policy"] for r in rows))
+    fig, axes = plt.subplots(1, len(policies), figsize=(3.6 * len(policies), 3.8), squeeze=False)
+    for ax, policy in zip(axes[0], policies, strict=True):
+        mine = [r for r in rows if r["policy"] == policy]
+        for outcome, marker, color in (("parked", "o", "C2"), ("failed", "x", "C3")):
+            pts = []
+            for r in mine:
+                if (outcome == "parked") != bool(r["success"]):
+                    continue
+                gx, gy, gyaw = r["goal_pose"]
+                dx, dy = r["start_pose"][0] - gx, r["start_pose"][1] - gy
+                c, s = math.cos(gyaw), math.sin(gyaw)
+                pts.append((c * dx + s * dy, -s * dx + c * dy))
+            if pts:
+                arr = np.array(pts)
+                ax.scatter(arr[:, 0], arr[:, 1], s=12, marker=marker, color=color, label=outcome)
+        ax.plot(0, 0, "ks", ms=6)
+        ax.arrow(0, 0, 0.6, 0, width=0.04, color="k")
+        rate = np.mean([bool(r["success"]) for r in mine]) if mine else math.nan
+        ax.set_title(f"{policy}: {rate:.0%} of {len(mine)}")
+        ax.set_aspect("equal")
+        ax.set_xlabel("start x in the goal frame [m]")
+        ax.grid(alpha=0.3)
+    axes[0, 0].set_ylabel("start y in the goal frame [m]")
+    axes[0, 0].legend(fontsize=7, loc="lower left")
+    fig.suptitle("domain of convergence (random rooms; the goal at the origin, heading +x)")
+    fig.tight_layout()
+    return _save(fig, path)
+
+
+def plot_trajectories(results: Sequence[JobResult], path: Path) -> Path:
+    """Paths of every policy on the paper's four tasks (exact depths), side by side."""
+    plt = _pyplot()
+    mine = [r for r in results if r.job.variant.label == "d*"]
+    tasks = sorted({task for r in mine for task, _ in r.paths if task is not None})
+    fig, axes = plt.subplots(1, len(tasks), figsize=(3.6 * len(tasks), 3.8), squeeze=False)
+    for ax, task in zip(axes[0], tasks, strict=True):
+        for p, result in enumerate(mine):
+            for t, xy in result.paths:
+                if t == task:
+                    ax.plot(xy[:, 0], xy[:, 1], color=f"C{p % 10}", label=result.job.policy)
+                    break
+        ax.plot(3.0, 3.0, "ko", ms=4)
+        ax.plot(7.0, 7.0, "ks", ms=5)
+        ax.set_title(f"paper-sim task {task} (goal yaw {90 * task} deg)")
+        ax.set_aspect("equal")
+        ax.set_xlim(0, 15.6)
+        ax.set_ylim(0, 15.6)
+        ax.grid(alpha=0.3)
+    axes[0, 0].legend(fontsize=7)
+    fig.tight_layout()
+    return _save(fig, path)

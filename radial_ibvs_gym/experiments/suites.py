@@ -1,0 +1,89 @@
+"""The benchmark's suites: which envs, variants and seeds every policy is run on.
+
+Every suite is a list of variants; a variant is a label, a scenario, ``gym.make`` overrides and
+an episode count. In the suites built on ``paper-sim``, episode ``k`` runs task ``k % 4`` with
+seed ``k``. Everything runs on the kinematic backend, except for the ``physics`` suite.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+__all__ = ["SUITES", "Variant", "suite_variants"]
+
+_MIRROR_A = {"mirror": "A", "non_central_offset": 0.01}  # paper-sim's camera
+
+
+@dataclass(frozen=True)
+class Variant:
+    """One configuration of a suite.
+
+    Attributes
+    ----------
+    suite, label
+        Names in the rows (``suite``, ``variant``).
+    scenario
+        Scenario name.
+    overrides
+        ``gym.make`` keyword arguments on top of the policy's needs.
+    episodes
+        Default number of episodes.
+    cycle_tasks
+        Episode ``k`` runs task ``k % n_tasks`` (the paper's four tasks).
+    """
+
+    suite: str
+    label: str
+    scenario: str
+    overrides: dict[str, Any] = field(default_factory=dict)
+    episodes: int = 8
+    cycle_tasks: bool = True
+
+
+def _camera(**imperfections: Any) -> dict[str, Any]:
+    return {"camera": {**_MIRROR_A, "imperfections": imperfections}}
+
+
+def _paper(suite: str, label: str, episodes: int = 8, **overrides: Any) -> Variant:
+    return Variant(suite, label, "paper-sim", {"physics": "kinematic", **overrides}, episodes)
+
+
+SUITES: dict[str, list[Variant]] = {
+    "paper": [_paper("paper", "d*"), _paper("paper", "1.3 d*", depth_scale=1.3)],
+    "random": [Variant("random", "random rooms", "random", {"physics": "kinematic"}, 200, False)],
+    "noise": [
+        _paper("noise", f"{sigma} px", **_camera(pixel_noise_std=sigma))
+        for sigma in (0.0, 0.5, 1.0, 2.0)
+    ],
+    "calibration": [
+        _paper("calibration", "exact"),
+        _paper("calibration", "pp (2, -1) px", **_camera(principal_point_offset=[2.0, -1.0])),
+        _paper("calibration", "pp (5, -3) px", **_camera(principal_point_offset=[5.0, -3.0])),
+        _paper("calibration", "fy +2 %", **_camera(focal_ratio_error=0.02)),
+    ],
+    "mirror-swap": [
+        _paper("mirror-swap", "goal mirror A"),
+        _paper(
+            "mirror-swap", "goal mirror B", goal_camera={"mirror": "B", "non_central_offset": 0.01}
+        ),
+    ],
+    "physics": [
+        _paper("physics", "kinematic"),
+        _paper("physics", "pymunk", physics="pymunk"),
+    ],
+}
+
+
+def suite_variants(names: list[str] | tuple[str, ...]) -> list[Variant]:
+    """List the variants of the named suites, in order.
+
+    Raises
+    ------
+    ValueError
+        For an unknown suite (the message lists the valid ones).
+    """
+    unknown = [n for n in names if n not in SUITES]
+    if unknown:
+        raise ValueError(f"unknown suite(s) {unknown}; valid: {list(SUITES)}")
+    return [variant for name in names for variant in SUITES[name]]
