@@ -2,10 +2,12 @@
 
 Every policy implements stable-baselines3's ``predict(observation, state=None,
 episode_start=None, deterministic=True) -> (action, state)`` and says, in ``env_kwargs``, what
-``gym.make`` must add to the observation for it. :func:`make_policy` builds them by name.
+``gym.make`` must add to the observation for it. :func:`make_policy` builds them by name;
+:func:`load` loads a trained model (shipped or from ``radial-ibvs train``).
 """
 
 from agents.ibvs import VARIANTS, IBVSPolicy
+from agents.learned import LearnedPolicy, load, shipped_models
 from agents.oracle import PoseOracle
 from agents.registry import POLICY_NAMES, Policy, RandomPolicy, make_policy
 from agents.smooth_control import SmoothControlLaw, curvature, ego_polar
@@ -14,11 +16,14 @@ __all__ = [
     "POLICY_NAMES",
     "VARIANTS",
     "IBVSPolicy",
+    "LearnedPolicy",
     "Policy",
     "PoseOracle",
     "RandomPolicy",
     "SmoothControlLaw",
     "curvature",
     "ego_polar",
+    "load",
     "make_policy",
+    "shipped_models",
 ]

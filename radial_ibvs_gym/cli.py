@@ -164,7 +164,45 @@ def build_parser() -> argparse.ArgumentParser:
     bench.add_argument("--out", type=Path, default=Path("outputs/benchmark"), help="folder")
     bench.add_argument("--json", type=Path, help="also write the per-episode rows here")
     bench.add_argument("--no-progress", action="store_true", help="no progress bar")
+    render = sub.add_parser(
+        "render",
+        help="save a video (GIF, or MP4 with ffmpeg) of a policy parking",
+        description="Run one episode of a policy with rgb_array rendering and save it.",
+    )
+    render.add_argument("--policy", required=True, help="policy name or model directory")
+    render.add_argument("--scenario", default="paper-sim", help="default: %(default)s")
+    render.add_argument("--task", type=int, help="task index (default: drawn)")
+    render.add_argument("--seed", type=int, default=0, help="default: %(default)s")
+    render.add_argument("--out", type=Path, required=True, help="FILE.gif or FILE.mp4")
+    render.add_argument("--fps", type=int, default=10, help="default: %(default)s")
+    render.add_argument("--max-steps", type=int, default=600, help="default: %(default)s")
+    render.add_argument(
+        "--env-kwarg", action="append", default=[], metavar="KEY=VALUE", help="gym.make argument"
+    )
     return parser
+
+
+def _render(args: argparse.Namespace) -> int:
+    from radial_ibvs_gym.experiments.evaluate import parse_env_kwargs
+    from radial_ibvs_gym.experiments.render import render_episode
+
+    path, info = render_episode(
+        args.policy,
+        args.out,
+        args.scenario,
+        task=args.task,
+        seed=args.seed,
+        env_kwargs=parse_env_kwargs(args.env_kwarg),
+        fps=args.fps,
+        max_steps=args.max_steps,
+    )
+    outcome = "parked" if info.get("is_success") else "did not park"
+    print(
+        f"{args.policy} {outcome}: position error {100 * info['position_error_m']:.1f} cm, "
+        f"heading error {info['heading_error_deg']:.1f} deg"
+    )
+    print(f"saved {path}")
+    return 0
 
 
 def _benchmark(args: argparse.Namespace) -> int:
@@ -342,6 +380,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "evaluate": _evaluate,
         "train": _train,
         "benchmark": _benchmark,
+        "render": _render,
     }
     if args.command in commands:
         try:

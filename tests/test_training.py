@@ -161,3 +161,12 @@ def test_bad_config_values_are_named(tmp_path: Path) -> None:
         load_train_config(CONFIG, "CartPole-v1")
     with pytest.raises(ValueError, match="not found"):
         load_train_config(tmp_path / "missing.yaml")
+
+
+def test_benchmark_skips_a_model_whose_observations_do_not_fit_the_suite(trained: Path) -> None:
+    from radial_ibvs_gym.experiments.benchmark import Job, _run_job
+    from radial_ibvs_gym.experiments.suites import Variant
+
+    lab = Variant("lab", "9 beacons", "paper-lab", {"physics": "kinematic"}, 2, False)
+    result = _run_job(Job(str(trained), lab, 2))
+    assert result.skipped is not None and "shape" in result.skipped and not result.rows

@@ -1,0 +1,122 @@
+"""``radial-ibvs render``: a video (GIF, or MP4 with ffmpeg) of a policy in an env."""
+
+from __future__ import annotations
+
+import io
+import shutil
+import tempfile
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+import radial_ibvs_gym  # noqa: F401  (registers the environments)
+from agents import make_policy
+from radial_ibvs_gym.experiments.evaluate import env_kwargs_for
+from radial_ibvs_gym.experiments.reproduce import write_atomic
+
+__all__ = ["render_episode"]
+
+
+def render_episode(
+    policy_name: str,
+    out: Path | str,
+    scenario: str = "paper-sim",
+    *,
+    task: int | None = None,
+    seed: int = 0,
+    env_kwargs: Mapping[str, Any] | None = None,
+    fps: int = 10,
+    max_steps: int = 600,
+) -> tuple[Path, dict[str, Any]]:
+    """Run one episode with ``render_mode="rgb_array"`` and save it as a GIF or an MP4.
+
+    Parameters
+    ----------
+    policy_name
+        A policy name or model directory (:func:`agents.make_policy`).
+    out
+        ``.gif`` (always available) or ``.mp4`` (needs ``ffmpeg`` on the ``PATH``).
+    scenario, task, seed, env_kwargs
+        The episode.
+    fps
+        Frames per second of the video (one frame per control step).
+    max_steps
+        Step budget.
+
+    Returns
+    -------
+    tuple
+        The path written and the last ``info``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown format or policy, or ``.mp4`` without ``ffmpeg``: before running.
+    """
+    out = Path(out)
+    suffix = out.suffix.lower()
+    if suffix not in (".gif", ".mp4"):
+        raise ValueError(f"--out must end in .gif or .mp4, got {out.name!r}")
+    if suffix == ".mp4" and shutil.which("ffmpeg") is None:
+        raise ValueError("an .mp4 needs ffmpeg on the PATH; install it or write a .gif")
+    if fps <= 0 or max_steps <= 0:
+        raise ValueError(f"fps and max_steps must be positive, got {fps!r}, {max_steps!r}")
+    policy = make_policy(policy_name)
+    kwargs = env_kwargs_for(policy, scenario, env_kwargs or {})
+    if task is not None:
+        kwargs["task"] = task
+    env = gym.make("RadialIBVS/Parking-v0", render_mode="rgb_array", **kwargs)
+    obs, info = env.reset(seed=seed)
+    frames = [np.asarray(env.render())]
+    for _ in range(max_steps):
+        action, _ = policy.predict(obs)
+        obs, _, terminated, truncated, info = env.step(action)
+        frames.append(np.asarray(env.render()))
+        if terminated or truncated:
+            break
+    env.close()
+    frames.extend([frames[-1]] * fps)  # hold the last frame for a second
+    data = _gif(frames, fps) if suffix == ".gif" else _mp4(frames, fps)
+    return write_atomic(out, data), info
+
+
+def _gif(frames: list[np.ndarray], fps: int) -> bytes:
+    from PIL import Image
+
+    images = [Image.fromarray(frame) for frame in frames]
+    buffer = io.BytesIO()
+    images[0].save(
+        buffer,
+        format="GIF",
+        save_all=True,
+        append_images=images[1:],
+        duration=round(1000 / fps),
+        loop=0,
+    )
+    return buffer.getvalue()
+
+
+def _mp4(frames: list[np.ndarray], fps: int) -> bytes:
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    from matplotlib.animation import FFMpegWriter
+
+    h, w = frames[0].shape[:2]
+    fig = plt.figure(figsize=(w / 100, h / 100), dpi=100)
+    ax = fig.add_axes((0, 0, 1, 1))
+    ax.set_axis_off()
+    image = ax.imshow(frames[0])
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "video.mp4"
+        writer = FFMpegWriter(fps=fps)
+        with writer.saving(fig, str(path), dpi=100):
+            for frame in frames:
+                image.set_data(frame)
+                writer.grab_frame()
+        plt.close(fig)
+        return path.read_bytes()

@@ -1,0 +1,129 @@
+"""``radial-ibvs benchmark``: suites, rows, summaries, outputs, bad input."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import pytest
+
+from radial_ibvs_gym.cli import main
+from radial_ibvs_gym.experiments.benchmark import run_benchmark, summary_rows
+from radial_ibvs_gym.experiments.evaluate import wilson_interval
+from radial_ibvs_gym.experiments.suites import SUITES, suite_variants
+
+
+def test_every_suite_of_the_issue_exists_with_its_variants() -> None:
+    assert set(SUITES) == {"paper", "random", "noise", "calibration", "mirror-swap", "physics"}
+    assert [v.label for v in SUITES["noise"]] == ["0.0 px", "0.5 px", "1.0 px", "2.0 px"]
+    assert SUITES["random"][0].episodes >= 200
+    assert {v.overrides["physics"] for v in SUITES["physics"]} == {"kinematic", "pymunk"}
+
+
+def test_benchmark_rows_follow_the_contract_and_summaries_count_them() -> None:
+    results = run_benchmark(
+        ["ibvs", "random"], ["paper", "mirror-swap"], episodes=4, progress=False
+    )
+    assert len(results) == 2 * (2 + 2)  # policies x variants
+    rows = [row for result in results for row in result.rows]
+    assert len(rows) == 2 * 4 * 4
+    for row in rows:
+        assert {
+            "policy",
+            "scenario",
+            "suite",
+            "variant",
+            "task",
+            "seed",
+            "physics",
+            "success",
+            "final_position_error_m",
+            "final_heading_error_deg",
+            "steps",
+            "time_s",
+            "path_length_m",
+            "collision",
+            "compute_us_per_step",
+            "control_effort",
+            "smoothness",
+        } <= set(row)
+    ibvs = [r for r in rows if r["policy"] == "ibvs"]
+    assert all(r["success"] for r in ibvs)  # the paper's tasks, exact and 1.3 d*, mirror swap
+    assert sorted({r["task"] for r in ibvs}) == [0, 1, 2, 3]
+    summaries = summary_rows(results)
+    paper_ibvs = next(s for s in summaries if s["policy"] == "ibvs" and s["variant"] == "d*")
+    assert paper_ibvs["episodes"] == 4 and paper_ibvs["success_rate"] == 1.0
+    assert paper_ibvs["success_ci95"] == pytest.approx(wilson_interval(4, 4))
+    random = next(s for s in summaries if s["policy"] == "random" and s["variant"] == "d*")
+    assert random["success_rate"] == 0.0 and random["smoothness"] > 0.3
+
+
+def test_parallel_workers_give_the_same_rows_as_one_process() -> None:
+    kwargs = {"episodes": 2, "progress": False}
+    one = run_benchmark(["ibvs", "oracle"], ["physics"], workers=1, **kwargs)
+    two = run_benchmark(["ibvs", "oracle"], ["physics"], workers=2, **kwargs)
+    strip = ("compute_us_per_step",)
+    for a, b in zip(one, two, strict=True):
+        assert [{k: v for k, v in r.items() if k not in strip} for r in a.rows] == [
+            {k: v for k, v in r.items() if k not in strip} for r in b.rows
+        ]
+
+
+def test_cli_writes_the_table_csv_json_and_plots(tmp_path: Path) -> None:
+    out, rows_path = tmp_path / "bench", tmp_path / "rows.json"
+    argv = ["benchmark", "--suites", "paper", "random", "--policies", "ibvs", "oracle"]
+    argv += ["--episodes", "4", "--workers", "1", "--out", str(out), "--json", str(rows_path)]
+    assert main([*argv, "--no-progress"]) == 0
+    rows = json.loads(rows_path.read_text())
+    assert len(rows) == 2 * (2 + 1) * 4
+    with (out / "episodes.csv").open() as handle:
+        assert len(list(csv.DictReader(handle))) == len(rows)
+    summary = (out / "summary.md").read_text()
+    assert "| paper | 1.3 d* | ibvs | 100% |" in summary
+    for name in ("success_by_suite.png", "convergence_map.png", "trajectories.png"):
+        assert (out / name).read_bytes()[:4] == b"\x89PNG", name
+
+
+def test_unknown_suites_and_policies_fail_before_anything_runs(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    with pytest.raises(ValueError, match="unknown suite"):
+        suite_variants(["paper", "moon"])
+    out = tmp_path / "nothing"
+    assert main(["benchmark", "--policies", "ibvs", "ppo-moon", "--out", str(out)]) == 2
+    assert "unknown policy 'ppo-moon'" in capsys.readouterr().err
+    assert not out.exists()  # nothing written half-way
+    assert main(["benchmark", "--suites", "moon", "--out", str(out)]) == 2
+    assert not out.exists()
+
+
+def test_wilson_interval_is_sound_at_the_extremes() -> None:
+    lo, hi = wilson_interval(0, 10)
+    assert lo == 0.0 and 0.25 < hi < 0.35
+    lo, hi = wilson_interval(10, 10)
+    assert 0.65 < lo < 0.75 and hi == 1.0
+    lo, hi = wilson_interval(50, 100)
+    assert lo == pytest.approx(0.404, abs=1e-3) and hi == pytest.approx(0.596, abs=1e-3)
+
+
+def test_render_saves_an_animated_gif(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    from PIL import Image
+
+    out = tmp_path / "ibvs.gif"
+    argv = ["render", "--policy", "ibvs", "--task", "1", "--out", str(out), "--max-steps", "5"]
+    assert main(argv) == 0
+    with Image.open(out) as gif:
+        assert gif.n_frames >= 6 and gif.size == (640, 320)
+    assert "saved" in capsys.readouterr().out
+
+
+def test_render_rejects_bad_formats_before_running(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    assert main(["render", "--policy", "ibvs", "--out", str(tmp_path / "a.avi")]) == 2
+    assert ".gif or .mp4" in capsys.readouterr().err
+    monkeypatch.setattr("shutil.which", lambda name: None)
+    assert main(["render", "--policy", "ibvs", "--out", str(tmp_path / "a.mp4")]) == 2
+    assert "ffmpeg" in capsys.readouterr().err
+    assert not list(tmp_path.iterdir())
