@@ -29,7 +29,7 @@ from stable_baselines3.common.vec_env import VecNormalize
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from agents.zoo import TrainConfig
 
-__all__ = ["ALGOS", "save_normalization", "train"]
+__all__ = ["ALGOS", "export_model", "save_normalization", "train"]
 
 ALGOS: dict[str, Any] = {"ppo": PPO, "sac": SAC}
 
@@ -263,3 +263,42 @@ def _plot_learning_curve(curve: list[dict[str, float]], path: Path, title: str) 
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def export_model(train_dir: Path | str, dest: Path | str, *, best: bool = True) -> Path:
+    """Copy what a user needs from a training directory into a small model directory.
+
+    Parameters
+    ----------
+    train_dir
+        What :func:`train` wrote.
+    dest
+        The model directory to write (e.g. ``agents/models/ppo-paper-sim``).
+    best
+        Ship the best model of the held-out evaluations (with its normalisation statistics)
+        rather than the last one.
+
+    Returns
+    -------
+    pathlib.Path
+        ``dest``, holding ``model.zip``, ``normalization.npz``, ``metadata.json`` (noting which
+        model it is), ``progress.csv`` and ``learning_curve.png``.
+    """
+    src, out = Path(train_dir), Path(dest)
+    use_best = best and (src / "best" / "best_model.zip").is_file()
+    model = src / "best" / "best_model.zip" if use_best else src / "model.zip"
+    norm = src / "best" / "normalization.npz" if use_best else src / "normalization.npz"
+    out.mkdir(parents=True, exist_ok=True)
+    shutil.copy(model, out / "model.zip")
+    if norm.is_file():
+        shutil.copy(norm, out / "normalization.npz")
+    metadata = json.loads((src / "metadata.json").read_text())
+    metadata["shipped"] = "best model of the held-out evaluations" if use_best else "last model"
+    if use_best and metadata.get("learning_curve"):
+        top = max(metadata["learning_curve"], key=lambda r: r["mean_return"])
+        metadata["shipped_at_timesteps"] = top["timesteps"]
+    (out / "metadata.json").write_text(json.dumps(metadata, indent=1) + "\n")
+    for name in ("logs/progress.csv", "learning_curve.png"):
+        if (src / name).is_file():
+            shutil.copy(src / name, out / Path(name).name)
+    return out

@@ -170,3 +170,15 @@ def test_benchmark_skips_a_model_whose_observations_do_not_fit_the_suite(trained
     lab = Variant("lab", "9 beacons", "paper-lab", {"physics": "kinematic"}, 2, False)
     result = _run_job(Job(str(trained), lab, 2))
     assert result.skipped is not None and "shape" in result.skipped and not result.rows
+
+
+def test_export_keeps_a_small_loadable_model_directory(trained: Path, tmp_path: Path) -> None:
+    from agents.training import export_model
+
+    dest = export_model(trained, tmp_path / "ppo-test")
+    names = {p.name for p in dest.iterdir()}
+    assert {"model.zip", "metadata.json", "normalization.npz"} <= names
+    assert "vecnormalize.pkl" not in names and "checkpoints" not in names  # no pickles, no bulk
+    assert json.loads((dest / "metadata.json").read_text())["shipped"]
+    obs, _ = gym.make("RadialIBVS/Parking-v0", **load(dest).env_kwargs).reset(seed=0)
+    assert load(dest).predict(obs)[0].shape == (2,)
