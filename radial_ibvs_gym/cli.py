@@ -31,7 +31,8 @@ def build_parser() -> argparse.ArgumentParser:
             "Project the 8 points of the paper's eq. (39) through its two hyperbolic mirrors "
             "(A and B) from the start pose and a goal pose of a parking task, check the radial "
             "invariance (eq. 7 on the exact pixels equals eq. 9), and save a figure; then drive "
-            "the robot of RadialIBVS/Parking-v0 (paper-sim) with random actions and save a "
+            "the robot of RadialIBVS/Parking-v0 (paper-sim) to the goal with the paper's IBVS "
+            "(from the image points only) and save a "
             "rendered frame next to it (<out>-episode.png)."
         ),
     )

@@ -185,19 +185,21 @@ def _draw_scene(ax: Axes, poses: dict[str, np.ndarray], colors: np.ndarray) -> N
     ax.set_title("scene of eq. (39) from above")
 
 
-def run_episode_demo(out: Path | str, task: int = 1, steps: int = 60, seed: int = 0) -> Path:
-    """Drive the robot of ``RadialIBVS/Parking-v0`` (paper-sim) with random actions; save a frame.
+def run_episode_demo(out: Path | str, task: int = 1, seed: int = 0) -> Path:
+    """Park the robot of ``RadialIBVS/Parking-v0`` (paper-sim) with the paper's IBVS; save a frame.
+
+    The policy sees only the image points and the goal depths (``agents.IBVSPolicy``); the
+    rendered frame shows the room from above with the driven path, beside the omnidirectional
+    image at the end.
 
     Parameters
     ----------
     out
         Path of the picture (PNG).
     task
-        Parking task 0..3.
-    steps
-        Number of control steps (0.1 s each).
+        Parking task 0..3 (goal yaw 0, 90, 180, 270 deg).
     seed
-        Seed of the episode and of the random actions.
+        Seed of the episode.
 
     Returns
     -------
@@ -208,23 +210,30 @@ def run_episode_demo(out: Path | str, task: int = 1, steps: int = 60, seed: int 
     import matplotlib.pyplot as plt
 
     import radial_ibvs_gym  # noqa: F401  (registers the environments)
+    from agents import IBVSPolicy
 
+    policy = IBVSPolicy()
     env = gym.make(
-        "RadialIBVS/Parking-v0", scenario="paper-sim", task=task, render_mode="rgb_array"
+        "RadialIBVS/Parking-v0",
+        scenario="paper-sim",
+        task=task,
+        render_mode="rgb_array",
+        **policy.env_kwargs,
     )
-    _, info = env.reset(seed=seed)
-    env.action_space.seed(seed)
-    total = 0.0
-    for _ in range(steps):
-        _, reward, terminated, truncated, info = env.step(env.action_space.sample())
-        total += float(reward)
-        if terminated or truncated:
-            break
+    obs, info = env.reset(seed=seed)
+    steps, done = 0, False
+    while not done and steps < 600:
+        action, _ = policy.predict(obs)
+        obs, _, terminated, truncated, info = env.step(action)
+        steps += 1
+        done = terminated or truncated
     frame = np.asarray(env.render())
     env.close()
+    outcome = "parked" if info["is_success"] else "did not park"
     print(
-        f"random policy, paper-sim task {task}: {steps} steps, return {total:+.2f}, "
-        f"position error {info['position_error_m']:.2f} m, {info['n_visible']}/8 points visible"
+        f"the paper's IBVS, paper-sim task {task}: {outcome} in {0.1 * steps:.1f} s, position "
+        f"error {100 * info['position_error_m']:.1f} cm, heading error "
+        f"{info['heading_error_deg']:.2f} deg, {info['n_visible']}/8 points visible"
     )
     out = Path(out)
     out.parent.mkdir(parents=True, exist_ok=True)

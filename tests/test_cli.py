@@ -28,7 +28,7 @@ def test_demo_saves_a_png_and_reports_the_invariance(
     episode = out.with_name("demo-episode.png")
     assert episode.read_bytes()[:8] == b"\x89PNG\r\n\x1a\n"
     text = capsys.readouterr().out
-    assert "random policy, paper-sim task 2" in text
+    assert "the paper's IBVS, paper-sim task 2: parked" in text
     assert "mirror A" in text and "mirror B" in text
     assert "8/8 points visible" in text
 
