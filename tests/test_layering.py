@@ -9,12 +9,12 @@ import pytest
 
 PACKAGE = Path(__file__).resolve().parents[1] / "radial_ibvs_gym"
 #: lower layers first; a layer may import only itself and the layers before it
-LAYERS = ("config", "geometry", "camera", "features", "physics", "scenarios")
+LAYERS = ("config", "geometry", "camera", "features", "render", "physics", "scenarios")
 #: layers that must stay free of the simulation/RL stack (those that exist yet)
 MATHS_LAYERS = tuple(name for name in LAYERS[1:] if (PACKAGE / name).is_dir())
 FORBIDDEN = ("gymnasium", "pymunk", "stable_baselines3", "torch", "matplotlib", "agents")
 #: what each layer may import from the outside world beyond numpy and the standard library
-EXTRA_ALLOWED = {"physics": {"pymunk"}}
+EXTRA_ALLOWED = {"physics": {"pymunk"}, "render": {"cv2"}}
 
 
 def _imports(path: Path) -> set[str]:

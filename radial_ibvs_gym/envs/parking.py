@@ -11,9 +11,11 @@ import numpy as np
 from gymnasium import spaces
 
 from radial_ibvs_gym.camera import normalise_pixels
+from radial_ibvs_gym.envs.detected import DetectedPoints
 from radial_ibvs_gym.features import c_ij, pair_indices, virtual_point_weights
 from radial_ibvs_gym.geometry import world_to_camera, wrap_angle_scalar
 from radial_ibvs_gym.physics import BACKENDS, RobotConfig, World, make_world, wheels_to_twist
+from radial_ibvs_gym.render import ImageQuality
 from radial_ibvs_gym.scenarios import Episode, Scenario, load_scenario
 
 __all__ = ["ParkingEnv"]
@@ -130,6 +132,12 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         action_type: Literal["twist", "wheels"] = "twist",
         privileged: bool = False,
         goal_depths: bool = False,
+        measurement: Literal["ideal", "detected"] = "ideal",
+        image_size: int = 256,
+        beacon_radius: float = 0.08,
+        image_noise: float = 0.0,
+        image_blur: float = 0.0,
+        exposure: float = 1.0,
         control_dt: float = 0.1,
         success_position_m: float = 0.02,
         success_heading_deg: float = 2.0,
@@ -149,6 +157,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             raise ValueError(f"unknown physics {physics!r}; valid: {list(BACKENDS)}")
         if obs_mode not in OBS_MODES:
             raise ValueError(f"unknown obs_mode {obs_mode!r}; valid: {list(OBS_MODES)}")
+        if measurement not in ("ideal", "detected"):
+            raise ValueError(f"unknown measurement {measurement!r}; valid: ['ideal', 'detected']")
         if action_type not in ("twist", "wheels"):
             raise ValueError(f"unknown action_type {action_type!r}; valid: ['twist', 'wheels']")
         for name, value in (
@@ -202,6 +212,17 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             if not (math.isfinite(weight) and weight >= 0):
                 raise ValueError(f"{name} must be finite and >= 0, got {weight!r}")
         self.render_mode = render_mode
+        self.measurement = measurement
+        self._detector: DetectedPoints | None = None
+        if measurement == "detected":
+            self._detector = DetectedPoints(
+                self.scenario.camera,
+                self.scenario.goal_camera,
+                self.scenario.config.camera_height,
+                image_size=image_size,
+                beacon_radius=beacon_radius,
+                quality=ImageQuality(image_noise, image_blur, exposure),
+            )
         self.robot = RobotConfig.from_dict(dict(self.scenario.config.robot))
         if action_type == "twist":
             self._scale = (self.robot.max_linear_speed, self.robot.max_angular_speed)
@@ -308,7 +329,12 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.world.reset(episode.start)
         self._goal_depths = self.scenario.goal_depths(episode)
         self._prepare_cameras()
-        goal_points, goal_visible = self._image(episode.goal, "goal")
+        if self._detector is not None:
+            goal_points, goal_visible = self._detector.reset(
+                episode.room, episode.landmarks, episode.start, episode.goal, self.np_random
+            )
+        else:
+            goal_points, goal_visible = self._image(episode.goal, "goal")
         if goal_visible.sum() < self.min_visible:
             raise ValueError(
                 f"only {int(goal_visible.sum())} landmarks are visible at the goal "
@@ -319,7 +345,11 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         if self.obs_mode == "features":
             self._c_goal = c_ij(self._unit_or_dummy(self._goal_points, goal_visible))
             self._weights_cache: dict[bytes, np.ndarray | None] = {}
-        self._observe(episode.start)
+        if self._detector is not None:
+            self._points, self._visible = self._detector.initial()
+            self._n_visible = int(self._visible.sum())
+        else:
+            self._observe(episode.start)
         self._prev_errors = self._errors(episode.start)
         self._renderer = None
         self._trail: list[np.ndarray] = [episode.start[:2].copy()]
@@ -432,7 +462,10 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         return xy, visible
 
     def _observe(self, pose: np.ndarray) -> None:
-        self._points, self._visible = self._image(pose, "current")
+        if self._detector is not None:
+            self._points, self._visible = self._detector.observe(pose, self.np_random)
+        else:
+            self._points, self._visible = self._image(pose, "current")
         self._n_visible = int(self._visible.sum())
 
     def _errors(self, pose: np.ndarray) -> tuple[float, float]:
@@ -505,4 +538,5 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             "n_visible": self._n_visible,
             "task": self.episode.task,
             "goal_depths": self._goal_depths.copy(),
+            **({"detection": self._detector.info()} if self._detector is not None else {}),
         }

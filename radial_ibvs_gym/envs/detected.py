@@ -1,0 +1,206 @@
+"""Image points measured from rendered images: render -> detect -> calibrate -> normalise -> match.
+
+Used by :class:`~radial_ibvs_gym.envs.parking.ParkingEnv` with ``measurement="detected"`` (and
+for the images of ``ParkingImage-v0``). The mirror border is fitted once per episode, on the
+goal image (the paper calibrates once, from the mirror border's Hough circle), and reused;
+if it cannot be fitted the nominal calibration is used and the status says so.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from radial_ibvs_gym.camera import CatadioptricCamera, normalise_pixels
+from radial_ibvs_gym.geometry import world_to_camera
+from radial_ibvs_gym.render import ImageQuality, OmniRenderer, RoomScene
+from radial_ibvs_gym.render.detect import BorderFit, Measurement, fit_mirror_border, measure
+from radial_ibvs_gym.render.track import BeaconTracker
+
+__all__ = ["DetectedPoints", "room_scene"]
+
+
+def room_scene(
+    room: NDArray[np.float64], landmarks: NDArray[np.float64], beacon_radius: float
+) -> RoomScene:
+    """Build the rendered room of an episode: walls, a ceiling above every beacon, beacons."""
+    height = max(2.8, float(np.max(landmarks[:, 2])) + beacon_radius + 0.3)
+    return RoomScene(
+        size=(float(room[0]), float(room[1])),
+        height=height,
+        beacons=landmarks,
+        beacon_radius=beacon_radius,
+    )
+
+
+@dataclass
+class _Frame:
+    image: NDArray[np.uint8]
+    measurement: Measurement
+
+
+class DetectedPoints:
+    """Normalised image points of the landmarks from rendered and measured images.
+
+    Parameters
+    ----------
+    camera, goal_camera
+        The cameras of the current and goal images.
+    camera_height
+        Camera height above the floor, metres.
+    image_size
+        Side of the rendered images, pixels.
+    beacon_radius
+        Radius of the beacons, metres.
+    quality
+        Sensor noise, blur and exposure.
+    """
+
+    def __init__(
+        self,
+        camera: CatadioptricCamera,
+        goal_camera: CatadioptricCamera,
+        camera_height: float,
+        image_size: int = 256,
+        beacon_radius: float = 0.08,
+        quality: ImageQuality | None = None,
+    ) -> None:
+        if not (math.isfinite(beacon_radius) and beacon_radius > 0):
+            raise ValueError(f"beacon_radius must be positive (metres), got {beacon_radius!r}")
+        self.camera_height = float(camera_height)
+        self.renderers = {
+            "current": OmniRenderer(camera, image_size, camera_height),
+            "goal": OmniRenderer(goal_camera, image_size, camera_height)
+            if goal_camera is not camera
+            else None,
+        }
+        self.cameras = {"current": camera, "goal": goal_camera}
+        self.beacon_radius = float(beacon_radius)
+        self.quality = quality or ImageQuality()
+        self.scene: RoomScene | None = None
+        self.border: BorderFit | None = None
+        self.tracker: BeaconTracker | None = None
+        self.status = "ok"
+        self.last: dict[str, _Frame] = {}
+
+    def _renderer(self, which: str) -> OmniRenderer:
+        return self.renderers[which] or self.renderers["current"]  # type: ignore[return-value]
+
+    def _predicted(self, pose: NDArray[np.float64], which: str) -> NDArray[np.float64]:
+        """Image positions ``(N, 2)`` of the landmarks by forward projection (NaN: hidden)."""
+        assert self.scene is not None
+        p_cam = world_to_camera(self.scene.beacons, pose, self.camera_height)
+        proj = self.cameras[which].forward(p_cam)
+        return self._renderer(which).sensor_to_image(proj.pixels)
+
+    def _measure(
+        self, pose: NDArray[np.float64], which: str, rng: np.random.Generator
+    ) -> Measurement:
+        assert self.scene is not None
+        image = self._renderer(which).render(pose, self.scene, self.quality, rng)
+        result = measure(image, border=self.border)
+        self.last[which] = _Frame(image, result)
+        return result
+
+    def _points(
+        self, match: NDArray[np.int64], result: Measurement
+    ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+        n = len(match)
+        points = np.zeros((n, 2))
+        visible = match >= 0
+        if visible.any():
+            points[visible] = result.x_n[match[visible]]
+        return points, visible
+
+    def reset(
+        self,
+        room: NDArray[np.float64],
+        landmarks: NDArray[np.float64],
+        start: NDArray[np.float64],
+        goal: NDArray[np.float64],
+        rng: np.random.Generator,
+    ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+        """Start an episode: measure and label the goal image, label the first current image.
+
+        Returns
+        -------
+        goal_points, goal_visible
+            ``(N, 2)`` goal image points (zeros where not detected) and ``(N,)`` mask.
+        """
+        self.scene = room_scene(room, landmarks, self.beacon_radius)
+        self.border = None
+        goal_image = self._renderer("goal").render(goal, self.scene, self.quality, rng)
+        self.border = fit_mirror_border(goal_image)
+        if self.border is None:
+            self.status = "border_not_found"
+        result = measure(goal_image, border=self.border)
+        self.last["goal"] = _Frame(goal_image, result)
+        predicted = self._predicted(goal, "goal")
+        n = len(landmarks)
+        self.tracker = BeaconTracker(n, gate_px=self._gate())
+        goal_match = self.tracker.start(result.centres, predicted, self._centre())
+        goal_points, goal_visible = self._points(goal_match, result)
+        reference = np.where(
+            goal_visible[:, None], result.centres[np.maximum(goal_match, 0)], np.nan
+        )
+        first = self._measure(start, "current", rng)
+        predicted = self._predicted(start, "current")
+        match = self.tracker.start(first.centres, predicted, self._centre(), reference)
+        self._current = self._points(match, first)
+        self.status = first.status if self.border is not None else "border_not_found"
+        return goal_points, goal_visible
+
+    def _gate(self) -> float:
+        return 0.04 * self._renderer("current").size
+
+    def _centre(self) -> NDArray[np.float64]:
+        if self.border is not None:
+            return self.border.centre
+        r = self._renderer("current")
+        return r.sensor_to_image(r.camera.intrinsics.principal_point)
+
+    def initial(self) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+        """Return the first current frame's points and mask (after :meth:`reset`)."""
+        return self._current
+
+    def observe(
+        self, pose: NDArray[np.float64], rng: np.random.Generator
+    ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+        """Measure the current image at ``pose`` and match it with the landmarks.
+
+        Returns
+        -------
+        points, visible
+            ``(N, 2)`` eq. (7) points (zeros where not tracked) and ``(N,)`` mask. A landmark
+            coasting after a missed frame keeps its predicted position (its last ``x_n``).
+        """
+        assert self.tracker is not None
+        result = self._measure(pose, "current", rng)
+        match = self.tracker.update(result.centres, self._centre())
+        points, visible = self._points(match, result)
+        coasting = self.tracker.tracked & ~visible
+        if coasting.any() and self.border is not None:
+            ratio = self.border.rho_f
+            points[coasting] = normalise_pixels(
+                self.tracker.position[coasting], self.border.centre, ratio
+            )
+            visible = visible | coasting
+        self.status = result.status if self.border is not None else "border_not_found"
+        return points, visible
+
+    def info(self) -> dict[str, Any]:
+        """Return the ``info["detection"]`` entry: status, counts and the calibration found."""
+        frame = self.last.get("current")
+        tracked = self.tracker.tracked if self.tracker is not None else np.zeros(0, bool)
+        return {
+            "status": self.status,
+            "n_detected": 0 if frame is None else len(frame.measurement.centres),
+            "n_tracked": int(tracked.sum()),
+            "principal_point_px": None if self.border is None else self.border.centre.copy(),
+            "rho_f": None if self.border is None else self.border.rho_f,
+            "rejected": {} if frame is None else dict(frame.measurement.rejected),
+        }

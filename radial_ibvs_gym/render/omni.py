@@ -1,0 +1,239 @@
+"""The omnidirectional image a catadioptric camera sees in a box room with black wall beacons.
+
+Each pixel's reflected ray is fixed in the camera frame (backward projection through the exact
+mirror, central or not, with the camera's true intrinsics and imperfections), so it is computed
+once per camera; a frame then costs only the ray-room intersections: rotate and shift the rays
+by the robot's pose, intersect them with the walls, floor and ceiling, shade, and paint the
+beacons (discs on the walls). Pure numpy.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from radial_ibvs_gym._validation import as_float_array, check_finite, check_last_dim
+from radial_ibvs_gym.camera import CatadioptricCamera
+
+__all__ = ["ImageQuality", "OmniRenderer", "RoomScene"]
+
+# grey levels (0..1) of the surfaces: walls facing +-x, walls facing +-y, floor, ceiling
+_SHADE = {"x": 0.78, "y": 0.66, "floor": 0.5, "ceiling": 0.9}
+_OUTSIDE, _BLIND, _BEACON = 0.04, 0.3, 0.06
+
+
+@dataclass(frozen=True)
+class RoomScene:
+    """A box room with circular beacons painted on its walls.
+
+    Attributes
+    ----------
+    size
+        ``(width, depth)`` of the floor, metres (walls at ``x = 0, width`` and ``y = 0, depth``).
+    height
+        Ceiling height, metres.
+    beacons
+        ``(K, 3)`` beacon centres on the walls, world frame, metres.
+    beacon_radius
+        Radius of the beacon discs, metres.
+    """
+
+    size: tuple[float, float]
+    height: float
+    beacons: NDArray[np.float64]
+    beacon_radius: float = 0.08
+
+    def __post_init__(self) -> None:
+        w, d = self.size
+        if not (w > 0 and d > 0 and math.isfinite(w) and math.isfinite(d)):
+            raise ValueError(f"size must be a positive (width, depth), got {self.size!r}")
+        if not (math.isfinite(self.height) and self.height > 0):
+            raise ValueError(f"height must be positive, got {self.height!r}")
+        if not (math.isfinite(self.beacon_radius) and self.beacon_radius > 0):
+            raise ValueError(f"beacon_radius must be positive, got {self.beacon_radius!r}")
+        beacons = as_float_array(self.beacons, "beacons").reshape(-1, 3)
+        check_finite(beacons, "beacons")
+        object.__setattr__(self, "beacons", beacons)
+        for b in beacons:
+            if self.wall_of(b) is None:
+                raise ValueError(f"beacon {b.tolist()} is not on a wall of the {w} x {d} m room")
+
+    def wall_of(self, point: NDArray[np.float64], tol: float = 1e-6) -> int | None:
+        """Wall index of a point (0: x = 0, 1: x = width, 2: y = 0, 3: y = depth), or None."""
+        w, d = self.size
+        for index, (coordinate, value) in enumerate(
+            ((point[0], 0.0), (point[0], w), (point[1], 0.0), (point[1], d))
+        ):
+            if abs(coordinate - value) <= tol:
+                return index
+        return None
+
+
+@dataclass(frozen=True)
+class ImageQuality:
+    """Image imperfections of a rendered frame.
+
+    Attributes
+    ----------
+    noise_std
+        Standard deviation of additive Gaussian sensor noise, grey levels (0-255).
+    blur_sigma
+        Gaussian blur, pixels of the rendered image (0: none).
+    exposure
+        Multiplies the brightness (1: nominal).
+    """
+
+    noise_std: float = 0.0
+    blur_sigma: float = 0.0
+    exposure: float = 1.0
+
+    def __post_init__(self) -> None:
+        for name in ("noise_std", "blur_sigma"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0):
+                raise ValueError(f"{name} must be >= 0, got {value!r}")
+        if not (math.isfinite(self.exposure) and self.exposure > 0):
+            raise ValueError(f"exposure must be positive, got {self.exposure!r}")
+
+
+class OmniRenderer:
+    """Render a camera's omnidirectional view of a :class:`RoomScene`.
+
+    The rendered image is a ``size x size`` crop of the sensor centred on the nominal principal
+    point and just covering the image of the mirror rim, resampled: rendered pixel ``(row i,
+    column j)`` is the sensor point ``(u, v) = origin + scale * (j + 0.5, i + 0.5)``.
+
+    Parameters
+    ----------
+    camera
+        The camera (its true intrinsics and imperfections shape the image).
+    size
+        Side of the rendered image, pixels.
+    camera_height
+        Height of the camera above the floor, metres.
+    """
+
+    def __init__(self, camera: CatadioptricCamera, size: int = 256, camera_height: float = 1.8):
+        if not (isinstance(size, int) and 16 <= size <= 4096):
+            raise ValueError(f"size must be an integer in 16..4096, got {size!r}")
+        if not (math.isfinite(camera_height) and camera_height > 0):
+            raise ValueError(f"camera_height must be positive, got {camera_height!r}")
+        self.camera, self.size, self.camera_height = camera, size, float(camera_height)
+        k = camera.intrinsics
+        r_rim = camera.visible_radius
+        depth = float(camera.mirror.profile_z(r_rim)) - camera.camera_z
+        rim_px = 1.04 * max(k.fx, k.fy) * r_rim / abs(depth)
+        self.scale = 2.0 * rim_px / size  # sensor pixels per rendered pixel
+        self.origin = np.array(k.principal_point) - rim_px  # sensor (u, v) of the corner
+        jj, ii = np.meshgrid(np.arange(size) + 0.5, np.arange(size) + 0.5)
+        sensor = self.origin + self.scale * np.stack([jj, ii], axis=-1)
+        origins, directions = camera.backward(sensor)
+        seen = np.isfinite(directions).all(axis=-1)
+        blind = seen & (np.hypot(origins[..., 0], origins[..., 1]) < camera.blind_radius)
+        self._background = np.full((size, size), _OUTSIDE)
+        self._background[blind] = _BLIND
+        rays = seen & ~blind
+        self._index = np.flatnonzero(rays)
+        self._origins = origins[rays]
+        self._directions = directions[rays]
+        self._flat_shade = np.where(self._directions[:, 2] > 0, _SHADE["ceiling"], _SHADE["floor"])
+        self._vertical_cache: tuple[float, tuple[NDArray[np.float64], ...]] | None = None
+
+    def _vertical(self, height: float) -> tuple[NDArray[np.float64], ...]:
+        """Ray parameter of the floor or ceiling hit, and the rays' heights (cached per room)."""
+        if self._vertical_cache is None or self._vertical_cache[0] != height:
+            oz = self.camera_height + self._origins[:, 2]
+            dz = self._directions[:, 2]
+            with np.errstate(divide="ignore", invalid="ignore"):
+                tz = np.where(dz > 0, height - oz, -oz) / dz
+            tz[~(tz >= 0)] = np.inf
+            self._vertical_cache = (height, (tz, oz, dz))
+        return self._vertical_cache[1]
+
+    def sensor_to_image(self, uv: ArrayLike) -> NDArray[np.float64]:
+        """Sensor pixels ``(..., 2)`` to rendered-image pixels ``(..., 2)`` (column, row)."""
+        return (np.asarray(uv, dtype=np.float64) - self.origin) / self.scale - 0.5
+
+    def image_to_sensor(self, xy: ArrayLike) -> NDArray[np.float64]:
+        """Rendered-image pixels ``(..., 2)`` (column, row) to sensor pixels ``(..., 2)``."""
+        return self.origin + self.scale * (np.asarray(xy, dtype=np.float64) + 0.5)
+
+    def render(
+        self,
+        pose: ArrayLike,
+        scene: RoomScene,
+        quality: ImageQuality | None = None,
+        rng: np.random.Generator | None = None,
+    ) -> NDArray[np.uint8]:
+        """Render the view from a robot pose.
+
+        Parameters
+        ----------
+        pose
+            ``(3,)`` robot pose ``(x, y, yaw)``, metres and radians.
+        scene
+            The room.
+        quality
+            Blur, exposure and sensor noise (default: a perfect image).
+        rng
+            Generator of the sensor noise (needed when ``quality.noise_std > 0``).
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(size, size)`` uint8 grey image.
+        """
+        p = as_float_array(pose, "pose")
+        check_last_dim(p, 3, "pose")
+        check_finite(p, "pose")
+        x, y, yaw = (float(v) for v in p)
+        c, s = math.cos(yaw), math.sin(yaw)
+        o, d = self._origins, self._directions
+        ox = x + c * o[:, 0] - s * o[:, 1]
+        oy = y + s * o[:, 0] + c * o[:, 1]
+        dx = c * d[:, 0] - s * d[:, 1]
+        dy = s * d[:, 0] + c * d[:, 1]
+        tz, oz, dz = self._vertical(scene.height)  # the floor and ceiling do not turn
+        w, depth = scene.size
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tx = np.where(dx > 0, w - ox, -ox) / dx
+            ty = np.where(dy > 0, depth - oy, -oy) / dy
+        tx[~(tx >= 0)] = np.inf  # NaN (dx = 0) and behind the ray
+        ty[~(ty >= 0)] = np.inf
+        on_x = (tx <= ty) & (tx <= tz)
+        on_y = ~on_x & (ty <= tz)
+        t = np.where(on_x, tx, np.where(on_y, ty, tz))
+        shade = np.where(on_x, _SHADE["x"], np.where(on_y, _SHADE["y"], self._flat_shade))
+        shade = shade / (1.0 + 0.03 * t)  # gentle fall-off with distance
+        r2 = scene.beacon_radius**2
+        walls = {0: np.flatnonzero(on_x), 2: np.flatnonzero(on_y)}
+        for beacon in scene.beacons:
+            index = walls[2 * (scene.wall_of(beacon) // 2)]  # type: ignore[operator]
+            ti = t[index]
+            hx = ox[index] + ti * dx[index] - beacon[0]
+            hy = oy[index] + ti * dy[index] - beacon[1]
+            hz = oz[index] + ti * dz[index] - beacon[2]
+            shade[index[hx * hx + hy * hy + hz * hz < r2]] = _BEACON
+        image = self._background.copy().reshape(-1)
+        image[self._index] = shade
+        image = image.reshape(self.size, self.size)
+        return _finish(image, quality or ImageQuality(), rng)
+
+
+def _finish(
+    image: NDArray[np.float64], quality: ImageQuality, rng: np.random.Generator | None
+) -> NDArray[np.uint8]:
+    """Apply blur, exposure and noise; quantise to uint8."""
+    out = 255.0 * quality.exposure * image
+    if quality.blur_sigma > 0:
+        import cv2
+
+        out = np.asarray(cv2.GaussianBlur(out, (0, 0), quality.blur_sigma), dtype=np.float64)
+    if quality.noise_std > 0:
+        if rng is None:
+            raise ValueError("sensor noise needs a random generator (rng)")
+        out = out + rng.normal(0.0, quality.noise_std, out.shape)
+    return np.clip(np.rint(out), 0, 255).astype(np.uint8)
