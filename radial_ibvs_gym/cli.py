@@ -152,7 +152,8 @@ def build_parser() -> argparse.ArgumentParser:
             "Run the policies on the suites (paper: the four tasks with d* and 1.3 d*; random: "
             "200 random rooms and start/goal pairs, the domain of convergence; noise: 0, 0.5, "
             "1, 2 px; calibration: principal-point and focal-ratio errors; mirror-swap: the "
-            "goal image through mirror B; physics: pymunk vs kinematic). Prints a table and "
+            "goal image through mirror B; physics: pymunk vs kinematic; pixels: ideal points vs "
+            "points detected in rendered images, paper-sim and paper-lab). Prints a table and "
             "writes episodes.csv, episodes.json, summary.md and plots into --out."
         ),
     )

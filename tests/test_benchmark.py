@@ -15,7 +15,17 @@ from radial_ibvs_gym.experiments.suites import SUITES, suite_variants
 
 
 def test_every_suite_of_the_issue_exists_with_its_variants() -> None:
-    assert set(SUITES) == {"paper", "random", "noise", "calibration", "mirror-swap", "physics"}
+    assert set(SUITES) == {
+        "paper",
+        "random",
+        "noise",
+        "calibration",
+        "mirror-swap",
+        "physics",
+        "pixels",
+    }
+    measured = {v.overrides.get("measurement", "ideal") for v in SUITES["pixels"]}
+    assert measured == {"ideal", "detected"}
     assert [v.label for v in SUITES["noise"]] == ["0.0 px", "0.5 px", "1.0 px", "2.0 px"]
     assert SUITES["random"][0].episodes >= 200
     assert {v.overrides["physics"] for v in SUITES["physics"]} == {"kinematic", "pymunk"}

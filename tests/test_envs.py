@@ -36,10 +36,17 @@ def test_gymnasium_and_sb3_checks_pass_without_warnings(env_id, scenario, obs_mo
         with pytest.raises(ValueError, match="obs_mode='points' only"):
             gym.make(env_id, scenario=scenario, obs_mode=obs_mode)
         return
+    kwargs = {"scenario": scenario, "obs_mode": obs_mode}
+    if env_id == "RadialIBVS/ParkingImage-v0":  # images, no point observation modes
+        if obs_mode == "features":
+            with pytest.raises(ValueError, match="obs_mode"):
+                gym.make(env_id, **kwargs)
+            return
+        kwargs.pop("obs_mode")
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        check_env(gym.make(env_id, scenario=scenario, obs_mode=obs_mode).unwrapped)
-        sb3_check_env(gym.make(env_id, scenario=scenario, obs_mode=obs_mode).unwrapped)
+        check_env(gym.make(env_id, **kwargs).unwrapped)
+        sb3_check_env(gym.make(env_id, **kwargs).unwrapped)
 
 
 def rollout(env: gym.Env, seed: int, steps: int = 60) -> list[np.ndarray]:

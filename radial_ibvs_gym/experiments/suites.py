@@ -13,6 +13,9 @@ from typing import Any
 __all__ = ["SUITES", "Variant", "suite_variants"]
 
 _MIRROR_A = {"mirror": "A", "non_central_offset": 0.01}  # paper-sim's camera
+#: the detected-points set-ups: paper-sim's room is 15.6 m wide, so larger beacons and images
+_PIXELS_SIM: dict[str, Any] = {"measurement": "detected", "image_size": 384, "beacon_radius": 0.1}
+_PIXELS_LAB: dict[str, Any] = {"measurement": "detected", "image_size": 256, "beacon_radius": 0.08}
 
 
 @dataclass(frozen=True)
@@ -71,6 +74,20 @@ SUITES: dict[str, list[Variant]] = {
     "physics": [
         _paper("physics", "kinematic"),
         _paper("physics", "pymunk", physics="pymunk"),
+    ],
+    # ideal points vs points measured in rendered images (render, detect, calibrate, match)
+    "pixels": [
+        _paper("pixels", "paper-sim ideal"),
+        _paper("pixels", "paper-sim detected", **_PIXELS_SIM),
+        Variant("pixels", "paper-lab ideal", "paper-lab", {"physics": "kinematic"}, 8, False),
+        Variant(
+            "pixels",
+            "paper-lab detected",
+            "paper-lab",
+            {"physics": "kinematic", **_PIXELS_LAB},
+            8,
+            False,
+        ),
     ],
 }
 
