@@ -181,7 +181,28 @@ def build_parser() -> argparse.ArgumentParser:
     render.add_argument(
         "--env-kwarg", action="append", default=[], metavar="KEY=VALUE", help="gym.make argument"
     )
+    image = sub.add_parser(
+        "image",
+        help="render an omnidirectional image and draw its measurement (border, beacons)",
+        description=(
+            "Render what the camera sees from an episode's start pose (clean, and with noise, "
+            "blur and under-exposure), fit the mirror border, detect the beacons, and save the "
+            "images with the fitted border, the detected centres and the true projections drawn."
+        ),
+    )
+    image.add_argument("--scenario", default="paper-lab", help="default: %(default)s")
+    image.add_argument("--seed", type=int, default=0, help="episode seed (default: %(default)s)")
+    image.add_argument(
+        "--out", type=Path, default=Path("outputs/pixels.png"), help="default: %(default)s"
+    )
     return parser
+
+
+def _image(args: argparse.Namespace) -> int:
+    from radial_ibvs_gym.experiments.pixels import plot_measured
+
+    print(f"saved {plot_measured(args.out, args.scenario, args.seed)}")
+    return 0
 
 
 def _render(args: argparse.Namespace) -> int:
@@ -383,6 +404,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         "train": _train,
         "benchmark": _benchmark,
         "render": _render,
+        "image": _image,
     }
     if args.command in commands:
         try:

@@ -324,3 +324,15 @@ def test_bad_detected_mode_arguments_are_rejected() -> None:
         _detected_env(beacon_radius=0.0)
     with pytest.raises(ValueError, match="size"):
         _detected_env(image_size=8)
+
+
+def test_the_image_command_draws_the_measurement(tmp_path) -> None:
+    from radial_ibvs_gym.cli import main
+    from radial_ibvs_gym.experiments.pixels import detection_accuracy
+
+    out = tmp_path / "pixels.png"
+    assert main(["image", "--scenario", "paper-lab", "--seed", "1", "--out", str(out)]) == 0
+    assert out.stat().st_size > 10_000
+    accuracy = detection_accuracy(n_images=4)
+    assert accuracy["detected"] > 0.9 and accuracy["spurious"] == 0
+    assert accuracy["p95_px"] < 0.5 and accuracy["principal_point_px"] < 0.1

@@ -70,6 +70,18 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     ``depths`` ``(N,)`` (metres) are added: for the pose oracle and the classic IBVS variants,
     never for a vision-based policy.
 
+    ## Detected points
+    With ``measurement="detected"`` the points come from images, as in the paper's lab
+    (Section 4.2): each frame is rendered (:mod:`radial_ibvs_gym.render`), the beacons are
+    detected with OpenCV, normalised with the principal point and ``rho_f`` of the mirror border
+    fitted on the goal image (eq. 7), and matched with the landmarks by a tracker
+    (:class:`~radial_ibvs_gym.render.track.BeaconTracker`; method in ``docs/pixels.md``).
+    ``info["detection"]`` holds ``status`` (``"ok"``, ``"no_beacons"`` or
+    ``"border_not_found"``), ``n_detected``, ``n_tracked``, ``principal_point_px``, ``rho_f``
+    and the ``rejected`` blob counts. A bad frame never raises: a landmark without a blob keeps
+    its last position for 3 frames, then it is hidden; with fewer than ``min_visible`` left the
+    episode ends "lost" as in ideal mode.
+
     ## Rewards
     ``r = progress + heading + precision + time + collision + lost + success`` (named in
     ``info["reward_terms"]``): ``progress = w_position (e_p(t-1) - e_p(t))`` (position error in
@@ -102,6 +114,9 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | ``action_type`` | ``"twist"`` | ``"twist"`` ``(v, omega)`` or ``"wheels"`` (left, right) |
     | ``goal_depths`` | ``False`` | add the goal depths ``d*`` to the observation (IBVS) |
     | ``privileged`` | ``False`` | add the true poses and depths to the observation |
+    | ``measurement`` | ``"ideal"`` | ``"ideal"`` projection, or ``"detected"`` (see below) |
+    | ``image_size`` / ``beacon_radius`` | ``256`` / ``0.08`` | detected mode: pixels / metres |
+    | ``image_noise`` / ``image_blur`` / ``exposure`` | ``0`` / ``0`` / ``1`` | detected mode |
     | ``control_dt`` | ``0.1`` | control period, seconds |
     | ``success_position_m`` / ``success_heading_deg`` | ``0.02`` / ``2.0`` | success tolerances |
     | ``min_visible`` | ``3`` | fewer visible landmarks terminate the episode |
