@@ -20,7 +20,7 @@ from typing import Any
 
 import gymnasium as gym
 import numpy as np
-from tqdm.auto import tqdm
+from tqdm import tqdm  # text bars: no ipywidgets needed in Jupyter
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from agents import make_policy
