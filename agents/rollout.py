@@ -146,7 +146,9 @@ def run_episode(
     policy_name
         Name recorded in the log (default: the policy's class name).
     max_steps
-        Extra step budget on top of the env's own truncation (``None``: only the env's).
+        A further cap on the number of steps, below the env's own truncation (``None``: only
+        the env's; to run longer than the registration's 600 steps, pass
+        ``max_episode_steps`` to ``gym.make``).
 
     Returns
     -------

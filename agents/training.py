@@ -62,17 +62,20 @@ class _SaveNormalizationOnBest(BaseCallback):
 
 
 def _git_revision() -> str:
+    """Return the checkout's commit, with ``+dirty`` when tracked files differ from it."""
+    here = Path(__file__).resolve().parent
+
+    def git(*args: str) -> str:
+        return subprocess.run(
+            ["git", *args], capture_output=True, text=True, check=True, cwd=here
+        ).stdout.strip()
+
     try:
-        out = subprocess.run(
-            ["git", "rev-parse", "HEAD"],
-            capture_output=True,
-            text=True,
-            check=True,
-            cwd=Path(__file__).resolve().parent,
-        )
-        return out.stdout.strip()
+        revision = git("rev-parse", "HEAD")
+        dirty = git("status", "--porcelain", "--untracked-files=no")
     except (OSError, subprocess.CalledProcessError):
         return "unknown"
+    return f"{revision}+dirty" if dirty else revision
 
 
 def _jsonable(value: Any) -> Any:
@@ -110,7 +113,8 @@ def train(
     seed
         Seed of the training envs and the algorithm.
     total_timesteps
-        Overrides the config's ``n_timesteps``.
+        Overrides the config's ``n_timesteps``. SB3 collects whole rollouts, so a run takes at
+        least ``n_envs * n_steps`` steps (4,096 with the shipped configs) however small this is.
     resume
         A model directory (or ``model.zip``) to continue from; its normalisation statistics
         are restored too.
@@ -243,10 +247,7 @@ def _learning_curve(path: Path) -> list[dict[str, float]]:
 
 
 def _plot_learning_curve(curve: list[dict[str, float]], path: Path, title: str) -> None:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # no backend forced: Agg when headless, inline in Jupyter
 
     fig, ax = plt.subplots(figsize=(6, 3.5))
     t = [row["timesteps"] for row in curve]

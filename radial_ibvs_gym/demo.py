@@ -15,7 +15,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from radial_ibvs_gym import paper
-from radial_ibvs_gym.camera import CatadioptricCamera, normalise_pixels, paper_camera, radial_points
+from radial_ibvs_gym.camera import CatadioptricCamera, paper_camera
+from radial_ibvs_gym.experiments.teaching import invariance_errors, mirror_circle_pixels
 from radial_ibvs_gym.geometry import world_to_camera
 
 if TYPE_CHECKING:
@@ -40,21 +41,8 @@ def invariance_error(camera: CatadioptricCamera, points_cam: np.ndarray) -> floa
     float
         The maximum error, or NaN if no point is visible.
     """
-    proj = camera.forward(points_cam)
-    if not np.any(proj.visible):
-        return float("nan")
-    k = camera.intrinsics
-    from_pixels = normalise_pixels(proj.pixels[proj.visible], k.principal_point, k.rho_f)
-    from_points = radial_points(points_cam[proj.visible], sign=camera.mirror.radial_sign).x_n
-    return float(np.max(np.linalg.norm(from_pixels - from_points, axis=-1)))
-
-
-def _rim_pixels(camera: CatadioptricCamera, radius: float) -> np.ndarray:
-    """Pixels of the circle of the given radius on the mirror (the rim, the blind zone)."""
-    phi = np.linspace(0.0, 2.0 * np.pi, 181)
-    z = float(camera.mirror.profile_z(radius)) - camera.camera_z
-    x_m = np.stack([radius * np.cos(phi), radius * np.sin(phi)], axis=-1) / z
-    return camera.intrinsics.project(x_m)
+    errors, visible = invariance_errors(camera, points_cam)
+    return float(np.max(errors[visible])) if visible.any() else float("nan")
 
 
 def run_demo(out: Path | str, task: int = 1, non_central_offset: float = 0.01) -> Path:
@@ -74,10 +62,7 @@ def run_demo(out: Path | str, task: int = 1, non_central_offset: float = 0.01) -
     pathlib.Path
         The path written.
     """
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # no backend forced: Agg when headless, inline in Jupyter
 
     out = Path(out)
     start, goal = np.array(paper.START_POSE), np.array(paper.goal_pose(task))
@@ -96,9 +81,9 @@ def run_demo(out: Path | str, task: int = 1, non_central_offset: float = 0.01) -
     for ax, (name, cam) in zip(axes[0], cameras.items(), strict=True):
         k = cam.intrinsics
         ax.add_patch(plt.Rectangle((0, 0), k.width, k.height, fc="0.15", ec="k"))
-        rim = _rim_pixels(cam, cam.mirror.rim_radius)
+        rim = mirror_circle_pixels(cam, cam.mirror.rim_radius)
         ax.fill(rim[:, 0], rim[:, 1], fc="0.85", ec="0.4", lw=1.5, label="mirror rim")
-        blind = _rim_pixels(cam, cam.blind_radius)
+        blind = mirror_circle_pixels(cam, cam.blind_radius)
         ax.fill(blind[:, 0], blind[:, 1], fc="0.3", ec="none", label="blind zone (lens)")
         for label, pose in poses.items():
             p_cam = world_to_camera(paper.EQ39_POINTS, pose, paper.CAMERA_HEIGHT_M)

@@ -19,10 +19,7 @@ __all__ = ["plot_convergence_map", "plot_success", "plot_trajectories"]
 
 
 def _pyplot() -> Any:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # no backend forced: Agg when headless, inline in Jupyter
 
     return plt
 

@@ -20,10 +20,7 @@ _STYLE = {"ibvs": ("C0", "-"), "oracle": ("k", "--"), "ibvs-d1.3": ("C3", "-.")}
 
 
 def _pyplot() -> Any:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # no backend forced: Agg when headless, inline in Jupyter
 
     return plt
 
@@ -93,6 +90,11 @@ def servoing_signals(log: EpisodeLog, lam: float = 0.5) -> dict[str, np.ndarray]
         ``alpha_m_error`` ``(T + 1,)`` ``alpha*_m - alpha_m`` radians, ``camera_velocity``
         ``(T + 1, 3)`` ``(v_x, v_y, omega_z)`` of the IBVS (m/s, rad/s), ``robot_velocity``
         ``(T, 2)`` the commanded ``(v, omega)`` as fractions of the speed limits.
+
+    Raises
+    ------
+    ValueError
+        When ``log.extra`` has no ``goal_depths`` (the IBVS velocity scales with them).
     """
     goal = log.goal_points
     n = len(goal)
@@ -106,7 +108,12 @@ def servoing_signals(log: EpisodeLog, lam: float = 0.5) -> dict[str, np.ndarray]
     weights = virtual_point_weights(goal)
     alpha_error = wrap_angle(-alpha_m(x, weights))  # alpha*_m = 0 by construction
     policy = IBVSPolicy(lam=lam)
-    depths = log.extra.get("goal_depths", np.ones(n))
+    if "goal_depths" not in log.extra:
+        raise ValueError(
+            "servoing_signals needs the goal depths d* in log.extra['goal_depths'] (metres); "
+            "reproduce() adds them, or set them from info['goal_depths']"
+        )
+    depths = np.asarray(log.extra["goal_depths"], dtype=np.float64)
     camera = np.full((len(x), 3), np.nan)
     for k in range(len(x)):
         obs = {

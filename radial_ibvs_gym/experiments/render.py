@@ -100,10 +100,7 @@ def _gif(frames: list[np.ndarray], fps: int) -> bytes:
 
 
 def _mp4(frames: list[np.ndarray], fps: int) -> bytes:
-    import matplotlib
-
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # no backend forced: Agg when headless, inline in Jupyter
     from matplotlib.animation import FFMpegWriter
 
     h, w = frames[0].shape[:2]

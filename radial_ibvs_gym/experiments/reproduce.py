@@ -29,6 +29,7 @@ from agents.rollout import EpisodeLog, run_episode
 __all__ = [
     "CASES",
     "ROBUSTNESS_CASES",
+    "SUCCESS",
     "Case",
     "reproduce",
     "summary_table",

@@ -1,0 +1,585 @@
+"""Small helpers for the control notebooks (``notebooks/03_*`` and ``notebooks/04_*``).
+
+The notebooks import and call these; they hold no library logic of their own. Four groups:
+
+- what the IBVS estimates, and the truth to compare it with: :func:`goal_in_robot_frame`
+  (the virtual target of eq. 38 from the true poses), :func:`ideal_observation` (the env's
+  observation of an ideal camera, eq. 9, at any pose) and :func:`ibvs_estimates` (the target
+  the paper's IBVS estimates from it, eq. 30 and 36-37);
+- running and measuring episodes: :func:`run_task`, :func:`hausdorff_distance`,
+  :func:`starts_in_goal_frame` (the domain of convergence);
+- training: :func:`small_train_config` (a config shrunk to a few hundred or thousand steps),
+  :func:`read_progress_csv` (stable-baselines3's log);
+- drawing on given matplotlib ``Axes`` (matplotlib itself is imported lazily, only by
+  :func:`preserve_matplotlib_backend`): :func:`draw_pose`, :func:`draw_paths`,
+  :func:`draw_servoing` (the paper's Fig. 6-8), :func:`draw_convergence_map`.
+
+Conventions as everywhere in the package (``docs/conventions.md``): robot poses ``(x, y, yaw)``
+in the world frame, metres and radians, yaw counter-clockwise from the world x axis; the robot
+frame has x forward and y to the left; actions are normalised to ``[-1, 1]``
+(``(v / v_max, omega / omega_max)``).
+"""
+
+from __future__ import annotations
+
+import csv
+import dataclasses
+import math
+from collections.abc import Iterator, Mapping, Sequence
+from contextlib import contextmanager
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+import gymnasium as gym
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+import radial_ibvs_gym  # noqa: F401  (registers the environments)
+from agents.ibvs import IBVSPolicy
+from agents.rollout import EpisodeLog, run_episode
+from agents.zoo import TrainConfig
+from radial_ibvs_gym._validation import as_float_array, check_finite, check_last_dim
+from radial_ibvs_gym.camera import radial_points
+from radial_ibvs_gym.geometry import world_to_camera, wrap_angle
+
+if TYPE_CHECKING:
+    from matplotlib.axes import Axes
+
+__all__ = [
+    "draw_convergence_map",
+    "draw_paths",
+    "draw_pose",
+    "draw_servoing",
+    "goal_in_robot_frame",
+    "hausdorff_distance",
+    "ibvs_estimates",
+    "ideal_observation",
+    "preserve_matplotlib_backend",
+    "read_progress_csv",
+    "run_task",
+    "small_train_config",
+    "starts_in_goal_frame",
+]
+
+
+# --- what the IBVS estimates, and the truth -------------------------------------------------
+
+
+def goal_in_robot_frame(robot_pose: ArrayLike, goal_pose: ArrayLike) -> NDArray[np.float64]:
+    """Express the goal pose in the robot frame: the virtual target of the smooth control law.
+
+    Parameters
+    ----------
+    robot_pose, goal_pose
+        ``(..., 3)`` poses ``(x, y, yaw)`` in the world frame, metres and radians
+        (broadcast against each other).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(..., 3)``: the goal position ``(x, y)`` in the robot frame (metres; x forward,
+        y to the left) and the rotation from the robot's heading to the goal's,
+        ``wrap(yaw_goal - yaw_robot)`` in ``[-pi, pi)`` (radians). The paper's IBVS estimates
+        the first two as ``v / lambda`` and the third as ``gamma`` (eq. 37).
+
+    Raises
+    ------
+    ValueError
+        For shapes other than ``(..., 3)`` or NaN/inf.
+    """
+    robot = as_float_array(robot_pose, "robot_pose")
+    goal = as_float_array(goal_pose, "goal_pose")
+    for array, name in ((robot, "robot_pose"), (goal, "goal_pose")):
+        check_last_dim(array, 3, name)
+        check_finite(array, name)
+    dx, dy = goal[..., 0] - robot[..., 0], goal[..., 1] - robot[..., 1]
+    c, s = np.cos(robot[..., 2]), np.sin(robot[..., 2])
+    rotation = wrap_angle(goal[..., 2] - robot[..., 2])
+    return np.stack(np.broadcast_arrays(c * dx + s * dy, -s * dx + c * dy, rotation), axis=-1)
+
+
+def ideal_observation(
+    landmarks: ArrayLike,
+    robot_pose: ArrayLike,
+    goal_pose: ArrayLike,
+    camera_height: float,
+    depth_scale: float = 1.0,
+) -> dict[str, NDArray[np.float32]]:
+    """Build what ``Parking-v0`` (``goal_depths=True``) observes with an ideal camera at a pose.
+
+    Every landmark is taken as visible (true for the paper's eight points along the parking
+    paths of ``paper-sim``); the image points are the radial model of eq. (9), ``x_n`` the
+    unit bearing of each landmark in the camera frame.
+
+    Parameters
+    ----------
+    landmarks
+        ``(N, 3)`` landmark positions, world frame, metres.
+    robot_pose, goal_pose
+        ``(3,)`` poses ``(x, y, yaw)``, metres and radians.
+    camera_height
+        Height of the camera above the floor, metres.
+    depth_scale
+        Scale error on the goal depths ``d*`` (the paper's second simulation: 1.3).
+
+    Returns
+    -------
+    dict
+        ``points`` and ``goal_points`` ``(2N,)`` (flattened ``x_n`` and ``x_n*``),
+        ``visible`` ``(N,)`` (ones) and ``goal_depths`` ``(N,)`` (metres), float32 as in the
+        env.
+
+    Raises
+    ------
+    ValueError
+        For bad shapes, NaN/inf, a non-positive depth scale or a landmark on the camera axis.
+    """
+    if not (math.isfinite(depth_scale) and depth_scale > 0):
+        raise ValueError(f"depth_scale must be finite and positive, got {depth_scale!r}")
+    now = radial_points(world_to_camera(landmarks, robot_pose, camera_height))
+    goal = radial_points(world_to_camera(landmarks, goal_pose, camera_height))
+    return {
+        "points": now.x_n.reshape(-1).astype(np.float32),
+        "goal_points": goal.x_n.reshape(-1).astype(np.float32),
+        "visible": np.ones(len(goal.d), dtype=np.float32),
+        "goal_depths": (depth_scale * goal.d).astype(np.float32),
+    }
+
+
+def ibvs_estimates(
+    policy: IBVSPolicy,
+    landmarks: ArrayLike,
+    robot_poses: ArrayLike,
+    goal_pose: ArrayLike,
+    camera_height: float,
+    depth_scale: float = 1.0,
+) -> NDArray[np.float64]:
+    """Estimate the virtual target with the paper's IBVS at each of a set of robot poses.
+
+    Parameters
+    ----------
+    policy
+        An :class:`~agents.ibvs.IBVSPolicy` (variant ``paper`` or ``no-frame-change``: the
+        ones that need only the goal depths).
+    landmarks
+        ``(N, 3)`` landmark positions, world frame, metres.
+    robot_poses
+        ``(K, 3)`` robot poses ``(x, y, yaw)``, metres and radians.
+    goal_pose
+        ``(3,)`` goal pose.
+    camera_height
+        Height of the camera above the floor, metres.
+    depth_scale
+        Scale error on the goal depths ``d*``.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(K, 3)`` rows ``(v_x / lambda, v_y / lambda, gamma)``: the estimated goal position in
+        the robot frame (metres) and rotation to the goal heading (radians), to compare with
+        :func:`goal_in_robot_frame`; NaN where the IBVS has no estimate.
+    """
+    poses = as_float_array(robot_poses, "robot_poses").reshape(-1, 3)
+    out = np.full((len(poses), 3), np.nan)
+    for k, pose in enumerate(poses):
+        obs = ideal_observation(landmarks, pose, goal_pose, camera_height, depth_scale)
+        estimate = policy.twist(obs)
+        if estimate is not None:
+            v, gamma = estimate
+            out[k] = (v[0] / policy.lam, v[1] / policy.lam, gamma)
+    return out
+
+
+# --- running and measuring episodes ---------------------------------------------------------
+
+
+def run_task(
+    policy: Any,
+    task: int | None = None,
+    *,
+    scenario: str = "paper-sim",
+    physics: str = "kinematic",
+    seed: int = 0,
+    options: Mapping[str, Any] | None = None,
+    policy_name: str | None = None,
+    max_steps: int | None = None,
+    env_id: str = "RadialIBVS/Parking-v0",
+    **env_kwargs: Any,
+) -> EpisodeLog:
+    """Make the env a policy needs, run one episode, close the env.
+
+    Parameters
+    ----------
+    policy
+        Anything with stable-baselines3's ``predict`` and an ``env_kwargs`` mapping (every
+        policy of :mod:`agents`).
+    task
+        Task index (``paper-sim``: 0..3, goal yaw 0, 90, 180, 270 deg); ``None`` lets the
+        seed draw one.
+    scenario, physics
+        ``gym.make`` arguments.
+    seed
+        Reset seed.
+    options
+        Reset options (``start``, ``goal``: poses ``(x, y, yaw)``, metres and radians).
+    policy_name
+        Name recorded in the log (default: the policy's class name).
+    max_steps
+        Extra step budget on top of the env's truncation (600 steps of 0.1 s).
+    env_id
+        The Gymnasium id.
+    **env_kwargs
+        Further ``gym.make`` arguments (``depth_scale=1.3``, ``success_position_m``, ...).
+
+    Returns
+    -------
+    EpisodeLog
+        The episode; ``extra["goal_depths"]`` holds the goal depths ``d*`` given to the
+        policy (metres, scaled) when the env reports them, as
+        :func:`~radial_ibvs_gym.experiments.figures.servoing_signals` needs.
+    """
+    kwargs = {**getattr(policy, "env_kwargs", {}), "scenario": scenario, "physics": physics}
+    if task is not None:
+        kwargs["task"] = task
+    kwargs.update(env_kwargs)
+    env = gym.make(env_id, **kwargs)
+    try:
+        log = run_episode(
+            policy,
+            env,
+            seed=seed,
+            options=dict(options) if options is not None else None,
+            policy_name=policy_name,
+            max_steps=max_steps,
+        )
+    finally:
+        env.close()
+    if "goal_depths" in log.info:
+        log.extra["goal_depths"] = np.asarray(log.info["goal_depths"], dtype=np.float64)
+    return log
+
+
+def hausdorff_distance(path_a: ArrayLike, path_b: ArrayLike) -> float:
+    """Hausdorff distance between two paths given as point sequences.
+
+    Parameters
+    ----------
+    path_a, path_b
+        ``(N, 2)`` and ``(M, 2)`` positions (more columns are ignored, e.g. the yaw of
+        ``(x, y, yaw)`` poses), metres.
+
+    Returns
+    -------
+    float
+        The largest distance from a point of one path to the nearest point of the other,
+        metres.
+
+    Raises
+    ------
+    ValueError
+        For an empty path or fewer than 2 columns.
+    """
+    a = as_float_array(path_a, "path_a")
+    b = as_float_array(path_b, "path_b")
+    for array, name in ((a, "path_a"), (b, "path_b")):
+        if array.ndim != 2 or array.shape[1] < 2 or len(array) == 0:
+            raise ValueError(f"{name} must be a non-empty (N, >=2) array, got {array.shape}")
+    d = np.linalg.norm(a[:, None, :2] - b[None, :, :2], axis=-1)
+    return float(max(d.min(axis=1).max(), d.min(axis=0).max()))
+
+
+def starts_in_goal_frame(
+    rows: Sequence[Mapping[str, Any]],
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """Start positions in the frame of each episode's goal, and whether the robot parked.
+
+    Parameters
+    ----------
+    rows
+        Benchmark rows (:func:`~radial_ibvs_gym.experiments.benchmark.run_benchmark`) with
+        ``start_pose``, ``goal_pose`` (``(x, y, yaw)``, metres and radians) and ``success``.
+
+    Returns
+    -------
+    xy
+        ``(K, 2)`` start positions with the goal at the origin heading along +x, metres.
+    success
+        ``(K,)`` whether each episode parked.
+    """
+    if not rows:
+        return np.zeros((0, 2)), np.zeros(0, dtype=bool)
+    start = np.array([r["start_pose"] for r in rows], dtype=np.float64)
+    goal = np.array([r["goal_pose"] for r in rows], dtype=np.float64)
+    xy = goal_in_robot_frame(goal, start)[:, :2]  # the start seen from the goal
+    return xy, np.array([bool(r["success"]) for r in rows])
+
+
+# --- training --------------------------------------------------------------------------------
+
+
+def small_train_config(
+    config: TrainConfig,
+    *,
+    n_envs: int,
+    n_steps: int,
+    batch_size: int | None = None,
+    eval_freq: int,
+    eval_episodes: int,
+) -> TrainConfig:
+    """Shrink a copy of a PPO training config for a short run (a notebook, a smoke test).
+
+    PPO collects ``n_envs * n_steps`` env steps before each update, so a run shorter than that
+    still collects a whole rollout: shrink both to train a few hundred steps.
+
+    Parameters
+    ----------
+    config
+        The config (:func:`agents.zoo.load_train_config`).
+    n_envs
+        Parallel envs.
+    n_steps
+        Steps per env and rollout.
+    batch_size
+        Minibatch size (default: ``min(config's, n_envs * n_steps)``); must divide into the
+        rollout for PPO not to warn.
+    eval_freq
+        Evaluate every this many env steps (all envs together).
+    eval_episodes
+        Held-out episodes per evaluation.
+
+    Returns
+    -------
+    TrainConfig
+        The shrunk copy (the original is unchanged).
+
+    Raises
+    ------
+    ValueError
+        For a non-positive count, a rollout of fewer than 2 steps, or a batch size that does
+        not divide the rollout.
+    """
+    for name, value in (
+        ("n_envs", n_envs),
+        ("n_steps", n_steps),
+        ("eval_freq", eval_freq),
+        ("eval_episodes", eval_episodes),
+    ):
+        if int(value) != value or value <= 0:
+            raise ValueError(f"{name} must be a positive integer, got {value!r}")
+    rollout = n_envs * n_steps
+    if rollout < 2:
+        raise ValueError(f"n_envs * n_steps must be >= 2, got {rollout}")
+    if batch_size is None:
+        batch_size = min(int(config.algo_kwargs.get("batch_size", 64)), rollout)
+    if batch_size <= 1 or rollout % batch_size:
+        raise ValueError(f"batch_size must be > 1 and divide n_envs * n_steps = {rollout}")
+    algo_kwargs = {**config.algo_kwargs, "n_steps": int(n_steps), "batch_size": int(batch_size)}
+    return dataclasses.replace(
+        config,
+        n_envs=int(n_envs),
+        algo_kwargs=algo_kwargs,
+        eval_freq=int(eval_freq),
+        eval_episodes=int(eval_episodes),
+    )
+
+
+def read_progress_csv(path: Path | str) -> dict[str, NDArray[np.float64]]:
+    """Read stable-baselines3's ``progress.csv`` into one float array per column.
+
+    Parameters
+    ----------
+    path
+        The CSV (``logs/progress.csv`` of a training run, ``progress.csv`` of a shipped model).
+
+    Returns
+    -------
+    dict
+        Column name (e.g. ``time/total_timesteps``, ``rollout/ep_rew_mean``,
+        ``rollout/success_rate``, ``eval/mean_reward``) -> ``(rows,)`` floats, NaN where a row
+        has no value (evaluation columns are filled only on evaluation rows).
+
+    Raises
+    ------
+    ValueError
+        If the file is missing or has no header.
+    """
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"{path} not found")
+    with path.open(newline="") as handle:
+        reader = csv.DictReader(handle)
+        if not reader.fieldnames:
+            raise ValueError(f"{path} has no header")
+        columns: dict[str, list[float]] = {name: [] for name in reader.fieldnames}
+        for row in reader:
+            for name in columns:
+                value = row.get(name) or ""
+                try:
+                    columns[name].append(float(value))
+                except ValueError:
+                    columns[name].append(math.nan)
+    return {name: np.asarray(values, dtype=np.float64) for name, values in columns.items()}
+
+
+# --- drawing ---------------------------------------------------------------------------------
+
+
+@contextmanager
+def preserve_matplotlib_backend() -> Iterator[None]:
+    """Restore matplotlib's backend on exit.
+
+    Some package functions that save figures (the training's learning curve, the benchmark's
+    and the reproduction's figures) switch matplotlib to ``Agg``; in Jupyter that would stop
+    later figures from showing inline. Wrap such calls in this context.
+    """
+    import matplotlib
+    import matplotlib.pyplot as plt
+
+    backend = matplotlib.get_backend()
+    try:
+        yield
+    finally:
+        if matplotlib.get_backend() != backend:
+            plt.switch_backend(backend)
+
+
+def draw_pose(
+    ax: Axes, pose: ArrayLike, *, color: str = "0.3", marker: str = "o", length: float = 0.5
+) -> None:
+    """Draw a pose: a marker at the position and an arrow along the heading.
+
+    Parameters
+    ----------
+    ax
+        Matplotlib axes.
+    pose
+        ``(x, y, yaw)``, metres and radians.
+    color, marker
+        Matplotlib colour and marker.
+    length
+        Arrow length, metres.
+    """
+    x, y, yaw = (float(v) for v in np.asarray(pose, dtype=np.float64)[:3])
+    ax.plot(x, y, marker, color=color, ms=5)
+    ax.arrow(
+        x, y, length * math.cos(yaw), length * math.sin(yaw), width=0.02, color=color, lw=0
+    )  # fmt: skip
+
+
+def draw_paths(
+    ax: Axes,
+    logs: Sequence[EpisodeLog],
+    *,
+    styles: Mapping[str, tuple[str, str]] | None = None,
+    poses: bool = True,
+) -> None:
+    """Draw the driven paths of episodes (the paper's Fig. 3-4), with start and goal poses.
+
+    Parameters
+    ----------
+    ax
+        Matplotlib axes (equal aspect, metres).
+    logs
+        Episodes; each is labelled by its ``policy`` name.
+    styles
+        ``policy -> (colour, line style)``; others get the next colours, solid.
+    poses
+        Draw the start (circle) and goal (square) poses of each episode.
+    """
+    styles = dict(styles or {})
+    for k, log in enumerate(logs):
+        color, line = styles.get(log.policy, (f"C{k % 10}", "-"))
+        ax.plot(*log.poses[:, :2].T, line, color=color, lw=1.6, label=log.policy)
+        if poses:
+            draw_pose(ax, log.poses[0], marker="o")
+            draw_pose(ax, log.info["goal_pose"], marker="s")
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("y [m]")
+    ax.grid(alpha=0.3)
+
+
+def draw_servoing(axes: Any, log: EpisodeLog, lam: float = 0.5) -> dict[str, NDArray[np.float64]]:
+    """Draw the paper's Fig. 6-8 for one IBVS episode on a 2 x 3 grid of axes.
+
+    Top: image point errors (pixels, if the log has them, as
+    :func:`~radial_ibvs_gym.experiments.reproduce.reproduce` records), feature errors
+    ``c*_ij - c_ij`` (Fig. 6), the ``alpha_m`` error (Fig. 8). Bottom: the IBVS camera
+    velocity and the robot command (Fig. 7), and the path.
+
+    Parameters
+    ----------
+    axes
+        ``(2, 3)`` array of matplotlib axes (``plt.subplots(2, 3)``).
+    log
+        The episode (its ``extra["goal_depths"]`` should hold the goal depths the policy used).
+    lam
+        The IBVS gain used, 1/s (for the camera velocity).
+
+    Returns
+    -------
+    dict
+        The signals (:func:`~radial_ibvs_gym.experiments.figures.servoing_signals`).
+    """
+    from radial_ibvs_gym.experiments.figures import servoing_signals
+
+    s = servoing_signals(log, lam)
+    k = np.arange(len(log.poses))
+    ax = axes[0][0]
+    for p in range(s["pixel_error"].shape[1]):
+        ax.plot(k, s["pixel_error"][:, p, 0], color=f"C{p % 10}", lw=1)
+        ax.plot(k, s["pixel_error"][:, p, 1], color=f"C{p % 10}", lw=1, ls="--")
+    ax.set_title("Fig. 6a: u - u*, v - v* (- -) [px]")
+    axes[0][1].plot(k, s["c_error"], lw=0.8)
+    axes[0][1].set_title("Fig. 6b: c*_ij - c_ij")
+    axes[0][2].plot(k, np.degrees(s["alpha_m_error"]), color="C3")
+    axes[0][2].set_title("Fig. 8: alpha*_m - alpha_m [deg]")
+    for column, label in enumerate(("v_x [m/s]", "v_y [m/s]", "omega_z [rad/s]")):
+        axes[1][0].plot(k, s["camera_velocity"][:, column], label=label)
+    axes[1][0].set_title("Fig. 7a: camera velocity (current frame)")
+    axes[1][0].legend(fontsize=8)
+    axes[1][1].plot(k[1:], s["robot_velocity"][:, 0], label="v / v_max")
+    axes[1][1].plot(k[1:], s["robot_velocity"][:, 1], label="omega / omega_max")
+    axes[1][1].set_title("Fig. 7b: robot command (eq. 38)")
+    axes[1][1].legend(fontsize=8)
+    for ax in (*axes[0], axes[1][0], axes[1][1]):
+        ax.set_xlabel("iteration")
+        ax.grid(alpha=0.3)
+    draw_paths(axes[1][2], [log])
+    axes[1][2].set_title("path")
+    return s
+
+
+def draw_convergence_map(ax: Axes, rows: Sequence[Mapping[str, Any]], title: str = "") -> float:
+    """Draw start positions in the goal's frame, green where the robot parked, red where not.
+
+    Parameters
+    ----------
+    ax
+        Matplotlib axes (equal aspect, metres).
+    rows
+        Benchmark rows of one policy (see :func:`starts_in_goal_frame`).
+    title
+        Axes title; the success rate is appended.
+
+    Returns
+    -------
+    float
+        The success rate (NaN without rows).
+    """
+    xy, success = starts_in_goal_frame(rows)
+    for mask, marker, color, label in (
+        (success, "o", "C2", "parked"),
+        (~success, "x", "C3", "failed"),
+    ):
+        if mask.any():
+            ax.scatter(xy[mask, 0], xy[mask, 1], s=14, marker=marker, color=color, label=label)
+    ax.plot(0.0, 0.0, "ks", ms=6)
+    ax.arrow(0.0, 0.0, 0.6, 0.0, width=0.04, color="k", lw=0)
+    rate = float(success.mean()) if len(success) else math.nan
+    ax.set_title(f"{title}: {rate:.0%} of {len(success)}" if title else f"{rate:.0%}")
+    ax.set_aspect("equal")
+    ax.set_xlabel("start x in the goal frame [m]")
+    ax.set_ylabel("start y in the goal frame [m]")
+    ax.grid(alpha=0.3)
+    return rate
