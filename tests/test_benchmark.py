@@ -137,3 +137,17 @@ def test_render_rejects_bad_formats_before_running(
     assert main(["render", "--policy", "ibvs", "--out", str(tmp_path / "a.mp4")]) == 2
     assert "ffmpeg" in capsys.readouterr().err
     assert not list(tmp_path.iterdir())
+
+
+def test_long_variants_are_split_into_chunks_and_merged_back_in_seed_order(monkeypatch) -> None:
+    from radial_ibvs_gym.experiments import benchmark
+
+    monkeypatch.setattr(benchmark, "CHUNK", 3)
+    results = run_benchmark(["random"], ["mirror-swap"], episodes=7, workers=2, progress=False)
+    assert [(r.job.variant.label, r.job.episodes) for r in results] == [
+        ("goal mirror A", 7),
+        ("goal mirror B", 7),
+    ]
+    for result in results:
+        assert [row["seed"] for row in result.rows] == list(range(7))
+        assert [task for task, _ in result.paths] == [0, 1, 2, 3]

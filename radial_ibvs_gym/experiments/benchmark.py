@@ -13,6 +13,7 @@ import csv
 import io
 import json
 import math
+import multiprocessing
 from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass
@@ -43,11 +44,16 @@ __all__ = [
 
 @dataclass(frozen=True)
 class Job:
-    """One policy on one suite variant."""
+    """One policy on one suite variant: episodes (seeds) ``first`` to ``first + episodes - 1``."""
 
     policy: str
     variant: Variant
     episodes: int
+    first: int = 0
+
+
+#: episodes per job: long variants are split so that the workers share them
+CHUNK = 20
 
 
 @dataclass
@@ -58,6 +64,13 @@ class JobResult:
     rows: list[dict[str, Any]]
     paths: list[tuple[int | None, np.ndarray]]
     skipped: str | None = None
+
+
+def _init_worker() -> None:
+    """One torch thread per worker process: the workers already share the cores."""
+    import torch
+
+    torch.set_num_threads(1)
 
 
 def _run_job(job: Job) -> JobResult:
@@ -74,7 +87,7 @@ def _run_job(job: Job) -> JobResult:
     base: Any = env.unwrapped
     n_tasks = base.scenario.n_tasks
     rows, paths = [], []
-    for k in range(job.episodes):
+    for k in range(job.first, job.first + job.episodes):
         options = {"task": k % n_tasks} if job.variant.cycle_tasks else None
         log = run_episode(policy, env, seed=k, options=options, policy_name=job.policy)
         row = log.row()
@@ -125,9 +138,11 @@ def run_benchmark(
     if episodes is not None and episodes < 1:
         raise ValueError(f"episodes must be >= 1, got {episodes!r}")
     jobs = [
-        Job(policy, variant, episodes or variant.episodes)
+        Job(policy, variant, min(CHUNK, total - first), first)
         for variant in suite_variants(list(suites))
         for policy in policies
+        for total in [episodes or variant.episodes]
+        for first in range(0, total, CHUNK)
     ]
     bar = tqdm(
         total=sum(j.episodes for j in jobs), desc="benchmark", unit="ep", disable=not progress
@@ -138,13 +153,29 @@ def run_benchmark(
             results[i] = _run_job(job)
             bar.update(job.episodes)
     else:
-        with ProcessPoolExecutor(max_workers=workers) as pool:
+        # spawn, not fork: torch (loaded here to check the models) hangs in forked children
+        context = multiprocessing.get_context("spawn")
+        with ProcessPoolExecutor(workers, mp_context=context, initializer=_init_worker) as pool:
             futures = {pool.submit(_run_job, job): i for i, job in enumerate(jobs)}
             for future in as_completed(futures):
                 results[futures[future]] = future.result()
                 bar.update(jobs[futures[future]].episodes)
     bar.close()
-    return [r for r in results if r is not None]
+    return _merge([r for r in results if r is not None])
+
+
+def _merge(chunks: Sequence[JobResult]) -> list[JobResult]:
+    """One result per (policy, variant), its chunks' rows and paths in episode order."""
+    merged: dict[tuple[str, str, str], JobResult] = {}
+    for r in sorted(chunks, key=lambda r: r.job.first):
+        key = (r.job.policy, r.job.variant.suite, r.job.variant.label)
+        if key not in merged:
+            merged[key] = JobResult(Job(r.job.policy, r.job.variant, 0), [], [], r.skipped)
+        m = merged[key]
+        m.rows.extend(r.rows)
+        m.paths.extend(r.paths)
+        m.job = Job(r.job.policy, r.job.variant, m.job.episodes + r.job.episodes)
+    return list(merged.values())  # the jobs' order: first chunks come first, stably sorted
 
 
 def summary_rows(results: Sequence[JobResult]) -> list[dict[str, Any]]:

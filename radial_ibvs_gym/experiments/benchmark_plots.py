@@ -32,33 +32,54 @@ def _save(fig: Any, path: Path) -> Path:
 
 
 def plot_success(summaries: Sequence[dict[str, Any]], path: Path) -> Path:
-    """Draw grouped bars: success rate (with its 95 % interval) per suite variant and policy."""
+    """Draw a heat map: the success rate (and its 95 % interval) of each policy per variant.
+
+    One row per suite variant, one column per policy; each cell shows the success rate and,
+    below it, its 95 % Wilson interval. Missing cells (a model that does not fit a variant's
+    observations) are blank.
+    """
     plt = _pyplot()
     policies = list(dict.fromkeys(s["policy"] for s in summaries))
     groups = list(dict.fromkeys((s["suite"], s["variant"]) for s in summaries))
     index = {(s["suite"], s["variant"], s["policy"]): s for s in summaries}
-    width = 0.8 / len(policies)
-    fig, ax = plt.subplots(figsize=(max(6.0, 0.9 * len(groups) * (1 + 0.3 * len(policies))), 4))
-    for p, policy in enumerate(policies):
-        x: list[float] = []
-        rate: list[float] = []
-        err: list[list[float]] = [[], []]
-        for g, (suite, variant) in enumerate(groups):
+    rate = np.full((len(groups), len(policies)), np.nan)
+    for g, (suite, variant) in enumerate(groups):
+        for p, policy in enumerate(policies):
+            if (suite, variant, policy) in index:
+                rate[g, p] = index[(suite, variant, policy)]["success_rate"]
+    fig, ax = plt.subplots(figsize=(1.1 * len(policies) + 2.8, 0.42 * len(groups) + 1.6))
+    ax.imshow(np.ma.masked_invalid(rate), cmap="RdYlGn", vmin=0.0, vmax=1.0, aspect="auto")
+    for g, (suite, variant) in enumerate(groups):
+        for p, policy in enumerate(policies):
             s = index.get((suite, variant, policy))
             if s is None:
                 continue
             lo, hi = s["success_ci95"]
-            x.append(g + (p - (len(policies) - 1) / 2) * width)
-            rate.append(s["success_rate"])
-            err[0].append(s["success_rate"] - lo)
-            err[1].append(hi - s["success_rate"])
-        ax.bar(x, rate, width, yerr=err, capsize=2, label=policy, color=f"C{p % 10}")
-    ax.set_xticks(range(len(groups)))
-    ax.set_xticklabels([f"{s}\n{v}" for s, v in groups], fontsize=7)
-    ax.set_ylabel("success rate (95% CI)")
-    ax.set_ylim(0, 1.05)
-    ax.legend(fontsize=7, ncol=min(len(policies), 4))
-    ax.grid(axis="y", alpha=0.3)
+            ink = "white" if not 0.15 <= s["success_rate"] <= 0.85 else "black"
+            ax.text(
+                p,
+                g - 0.12,
+                f"{100 * s['success_rate']:.0f}%",
+                ha="center",
+                va="center",
+                fontsize=8,
+                weight="bold",
+                color=ink,
+            )
+            ax.text(
+                p,
+                g + 0.25,
+                f"{100 * lo:.0f}-{100 * hi:.0f}",
+                ha="center",
+                va="center",
+                fontsize=5.5,
+                color=ink,
+            )
+    ax.set_xticks(range(len(policies)))
+    ax.set_xticklabels(policies, rotation=30, ha="right", fontsize=8)
+    ax.set_yticks(range(len(groups)))
+    ax.set_yticklabels([f"{suite}: {variant}" for suite, variant in groups], fontsize=8)
+    ax.set_title("success rate per suite variant (small: 95% interval)", fontsize=9)
     fig.tight_layout()
     return _save(fig, path)
 
