@@ -37,3 +37,24 @@ def test_readme_python_snippets_run() -> None:
     namespace: dict[str, object] = {}
     for block in blocks:
         exec(compile(block, "README.md", "exec"), namespace)
+
+
+def test_relative_links_in_the_readme_and_docs_point_to_files_that_exist() -> None:
+    pages = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+    pages.append(ROOT / "notebooks" / "README.md")
+    broken = []
+    for page in pages:
+        for target in re.findall(r"\]\(([^)#\s]+)(?:#[^)]*)?\)", page.read_text()):
+            if "://" in target:
+                continue
+            if not (page.parent / target).exists():
+                broken.append(f"{page.relative_to(ROOT)} -> {target}")
+    assert not broken, broken
+
+
+def test_the_paper_to_code_map_names_code_and_tests_that_exist() -> None:
+    text = (ROOT / "docs" / "paper-to-code.md").read_text()
+    paths = set(re.findall(r"`((?:radial_ibvs_gym|agents|tests|configs)/[\w/.-]+)`", text))
+    assert len(paths) > 20
+    missing = sorted(p for p in paths if not (ROOT / p).exists())
+    assert not missing, missing
