@@ -336,3 +336,9 @@ def test_the_image_command_draws_the_measurement(tmp_path) -> None:
     accuracy = detection_accuracy(n_images=4)
     assert accuracy["detected"] > 0.9 and accuracy["spurious"] == 0
     assert accuracy["p95_px"] < 0.5 and accuracy["principal_point_px"] < 0.1
+
+
+def test_a_goal_image_without_a_mirror_border_is_a_clear_error_at_reset() -> None:
+    env = _detected_env(exposure=1e-4)  # a black frame
+    with pytest.raises(ValueError, match="mirror border was not found"):
+        env.reset(seed=0)

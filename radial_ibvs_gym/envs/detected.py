@@ -3,7 +3,7 @@
 Used by :class:`~radial_ibvs_gym.envs.parking.ParkingEnv` with ``measurement="detected"`` (and
 for the images of ``ParkingImage-v0``). The mirror border is fitted once per episode, on the
 goal image (the paper calibrates once, from the mirror border's Hough circle), and reused;
-if it cannot be fitted the nominal calibration is used and the status says so.
+a goal image without a border is an error at reset.
 """
 
 from __future__ import annotations
@@ -130,13 +130,21 @@ class DetectedPoints:
         -------
         goal_points, goal_visible
             ``(N, 2)`` goal image points (zeros where not detected) and ``(N,)`` mask.
+
+        Raises
+        ------
+        ValueError
+            When the goal image shows no mirror border (nothing can be calibrated).
         """
         self.scene = room_scene(room, landmarks, self.beacon_radius)
         self.border = None
         goal_image = self._renderer("goal").render(goal, self.scene, self.quality, rng)
         self.border = fit_mirror_border(goal_image)
         if self.border is None:
-            self.status = "border_not_found"
+            raise ValueError(
+                "the mirror border was not found in the goal image (a black, blank or saturated "
+                f"frame: exposure={self.quality.exposure!r}), so there is no calibration"
+            )
         result = measure(goal_image, border=self.border)
         self.last["goal"] = _Frame(goal_image, result)
         predicted = self._predicted(goal, "goal")
@@ -151,7 +159,7 @@ class DetectedPoints:
         predicted = self._predicted(start, "current")
         match = self.tracker.start(first.centres, predicted, self._centre(), reference)
         self._current = self._points(match, first)
-        self.status = first.status if self.border is not None else "border_not_found"
+        self.status = first.status
         return goal_points, goal_visible
 
     def _gate(self) -> float:
@@ -189,7 +197,7 @@ class DetectedPoints:
                 self.tracker.position[coasting], self.border.centre, ratio
             )
             visible = visible | coasting
-        self.status = result.status if self.border is not None else "border_not_found"
+        self.status = result.status
         return points, visible
 
     def info(self) -> dict[str, Any]:

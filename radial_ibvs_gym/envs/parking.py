@@ -76,11 +76,11 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     detected with OpenCV, normalised with the principal point and ``rho_f`` of the mirror border
     fitted on the goal image (eq. 7), and matched with the landmarks by a tracker
     (:class:`~radial_ibvs_gym.render.track.BeaconTracker`; method in ``docs/pixels.md``).
-    ``info["detection"]`` holds ``status`` (``"ok"``, ``"no_beacons"`` or
-    ``"border_not_found"``), ``n_detected``, ``n_tracked``, ``principal_point_px``, ``rho_f``
-    and the ``rejected`` blob counts. A bad frame never raises: a landmark without a blob keeps
-    its last position for 3 frames, then it is hidden; with fewer than ``min_visible`` left the
-    episode ends "lost" as in ideal mode.
+    ``info["detection"]`` holds ``status`` (``"ok"`` or ``"no_beacons"``), ``n_detected``,
+    ``n_tracked``, ``principal_point_px``, ``rho_f`` and the ``rejected`` blob counts. A bad
+    frame never raises: a landmark without a blob keeps its last position for 3 frames, then it
+    is hidden; with fewer than ``min_visible`` left the episode ends "lost" as in ideal mode. A
+    goal image without a mirror border raises ``ValueError`` at reset (no calibration).
 
     ## Rewards
     ``r = progress + heading + precision + time + collision + lost + success`` (named in
