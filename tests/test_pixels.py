@@ -189,15 +189,18 @@ def test_tracker_keeps_identities_through_turns_losses_and_extra_blobs() -> None
     centre = np.array([100.0, 100.0])
     tracker = BeaconTracker(len(base), gate_px=5.0, coast_frames=2)
     first = _ring(base)
-    perm = rng.permutation(len(base))  # the detector's order is arbitrary
-    match = tracker.start(first[perm], first, centre)
-    np.testing.assert_array_equal(perm[match], np.arange(len(base)))
+    in_view = np.arange(len(base)) != 7  # beacon 7 enters the view at frame 5
+    perm = rng.permutation(int(in_view.sum()))  # the detector's order is arbitrary
+    match = tracker.start(first[in_view][perm], first, centre)
+    assert match[7] == -1
+    np.testing.assert_array_equal(perm[match[:7]], np.arange(7))
     heading, rate = 0.0, 0.0
     for frame in range(1, 60):
         rate = min(rate + 2.0, 14.0) if frame < 30 else max(rate - 3.0, -10.0)  # turning
         heading += rate
         truth = _ring(base + heading)
         present = np.ones(len(base), bool)
+        present[7] = frame >= 5
         if 10 <= frame < 25:
             present[3] = False  # beacon 3 leaves the view and comes back
         if frame in (40, 41):
@@ -213,6 +216,8 @@ def test_tracker_keeps_identities_through_turns_losses_and_extra_blobs() -> None
                 hit = blobs[order][match[k]]
                 assert np.allclose(hit, truth[k]), f"frame {frame}: landmark {k} mislabelled"
         matched = {k for k in range(len(base)) if match[k] >= 0}
+        if 6 <= frame < 10:
+            assert 7 in matched, f"frame {frame}: beacon 7 not acquired on entering the view"
         if frame >= 26:
             assert set(ids) == matched, f"frame {frame}: {sorted(matched)} vs {sorted(ids)}"
     assert tracker.tracked.all()

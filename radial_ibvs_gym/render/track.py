@@ -20,7 +20,9 @@ Method (documented in ``docs/pixels.md``):
    free blob is given to a hidden landmark when it is the only free blob in the azimuth
    interval between that landmark's tracked neighbours in the reference order, that interval
    holds no other hidden landmark, and its distance to the image centre (the beacon's
-   elevation) is within ``reacquire_radius`` (relative) of the landmark's last one.
+   elevation) is within ``reacquire_radius`` (relative) of the landmark's last one. A landmark
+   never seen yet (out of view in the first frame) is acquired the same way when it enters the
+   view, its distance compared with the reference image's with twice the tolerance.
 """
 
 from __future__ import annotations
@@ -158,6 +160,7 @@ class BeaconTracker:
         self.velocity = np.zeros((self.n, 2))  # (azimuth, radius) per frame: radians, pixels
         self.missed = np.zeros(self.n, dtype=np.int64)
         self.order: NDArray[np.int64] = np.arange(self.n)
+        self.reference_radius = np.full(self.n, np.nan)
 
     @property
     def tracked(self) -> NDArray[np.bool_]:
@@ -195,6 +198,7 @@ class BeaconTracker:
         az = _azimuth(ref, centre)
         az = np.where(np.isfinite(az), az, np.inf)
         self.order = np.argsort(az, kind="stable")[: int(np.isfinite(az).sum())]
+        self.reference_radius = np.hypot(*(np.asarray(ref, float) - centre).T)
         match = assign(np.asarray(predicted, float), np.asarray(blobs, float), self.gate_px)
         found = match >= 0
         self.position[found] = blobs[match[found]]
@@ -263,7 +267,16 @@ class BeaconTracker:
             return
         blob_az = _azimuth(blobs, centre)
         for k in order:
-            if live[k] or match[k] >= 0 or not np.isfinite(self.position[k, 0]):
+            if live[k] or match[k] >= 0:
+                continue
+            # the distance to the centre last seen, else (never seen yet) the reference one
+            seen = bool(np.isfinite(self.position[k, 0]))
+            base_r = (
+                float(np.hypot(*(self.position[k] - centre)))
+                if seen
+                else float(self.reference_radius[k])
+            )
+            if not np.isfinite(base_r):
                 continue
             i = order.index(k)
             prev = next(
@@ -285,8 +298,8 @@ class BeaconTracker:
             candidates = [int(b) for b in free if 0 < _ccw(a0, float(blob_az[b])) < span]
             if len(candidates) != 1:
                 continue
-            last_r = float(np.hypot(*(self.position[k] - centre)))
             new_r = float(np.hypot(*(blobs[candidates[0]] - centre)))
-            if abs(new_r - last_r) <= self.reacquire_radius * last_r:
+            tolerance = self.reacquire_radius * (1.0 if seen else 2.0)
+            if abs(new_r - base_r) <= tolerance * base_r:
                 match[k] = candidates[0]
                 free = free[free != candidates[0]]
