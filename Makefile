@@ -36,6 +36,7 @@ bench:
 	$(BIN)/python benchmarks/bench_maths.py
 	$(BIN)/python benchmarks/bench_envs.py
 	$(BIN)/python benchmarks/bench_controllers.py
+	$(BIN)/python benchmarks/bench_final_approach.py
 	$(BIN)/python benchmarks/bench_pixels.py
 	$(BIN)/python benchmarks/bench_training.py
 
