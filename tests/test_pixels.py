@@ -347,3 +347,29 @@ def test_a_goal_image_without_a_mirror_border_is_a_clear_error_at_reset() -> Non
     env = _detected_env(exposure=1e-4)  # a black frame
     with pytest.raises(ValueError, match="mirror border was not found"):
         env.reset(seed=0)
+
+
+def test_a_goal_image_from_another_mirror_gets_its_own_calibration_and_the_ibvs_parks() -> None:
+    from agents import make_policy
+
+    # mirror B, its principal point 8 px off: its own border fit must calibrate the goal image
+    goal_camera = {
+        "mirror": "B",
+        "non_central_offset": 0.01,
+        "imperfections": {"principal_point_offset": [8.0, -5.0]},
+    }
+    env = _detected_env(goal_camera=goal_camera)
+    policy = make_policy("ibvs")
+    obs, info = env.reset(seed=1)
+    detector = env.unwrapped._detector
+    goal_border = fit_mirror_border(detector.last["goal"].image)
+    current_border = fit_mirror_border(detector.last["current"].image)
+    assert goal_border is not None and current_border is not None
+    assert np.linalg.norm(goal_border.centre - current_border.centre) > 1.0
+    np.testing.assert_allclose(info["detection"]["principal_point_px"], current_border.centre)
+    done = False
+    while not done:
+        action, _ = policy.predict(obs)
+        obs, _, terminated, truncated, info = env.step(action)
+        done = terminated or truncated
+    assert info["is_success"], info

@@ -3,7 +3,8 @@
 Used by :class:`~radial_ibvs_gym.envs.parking.ParkingEnv` with ``measurement="detected"`` (and
 for the images of ``ParkingImage-v0``). The mirror border is fitted once per episode, on the
 goal image (the paper calibrates once, from the mirror border's Hough circle), and reused;
-a goal image without a border is an error at reset.
+when the goal image comes from another camera (mirror swap), the current camera gets its own
+fit on the episode's first image. An image without a border at reset is an error.
 """
 
 from __future__ import annotations
@@ -134,33 +135,46 @@ class DetectedPoints:
         Raises
         ------
         ValueError
-            When the goal image shows no mirror border (nothing can be calibrated).
+            When the goal image (or the first current image, from another camera) shows no
+            mirror border: nothing can be calibrated.
         """
         self.scene = room_scene(room, landmarks, self.beacon_radius)
-        self.border = None
         goal_image = self._renderer("goal").render(goal, self.scene, self.quality, rng)
-        self.border = fit_mirror_border(goal_image)
-        if self.border is None:
-            raise ValueError(
-                "the mirror border was not found in the goal image (a black, blank or saturated "
-                f"frame: exposure={self.quality.exposure!r}), so there is no calibration"
-            )
-        result = measure(goal_image, border=self.border)
+        goal_border = self._calibrate(goal_image, "goal image")
+        result = measure(goal_image, border=goal_border)
         self.last["goal"] = _Frame(goal_image, result)
-        predicted = self._predicted(goal, "goal")
         n = len(landmarks)
         self.tracker = BeaconTracker(n, gate_px=self._gate())
-        goal_match = self.tracker.start(result.centres, predicted, self._centre())
+        goal_match = self.tracker.start(
+            result.centres, self._predicted(goal, "goal"), goal_border.centre
+        )
         goal_points, goal_visible = self._points(goal_match, result)
         reference = np.where(
             goal_visible[:, None], result.centres[np.maximum(goal_match, 0)], np.nan
         )
-        first = self._measure(start, "current", rng)
+        first_image = self._renderer("current").render(start, self.scene, self.quality, rng)
+        # one calibration per camera: the goal camera's border, unless the current one differs
+        self.border = (
+            goal_border
+            if self.renderers["goal"] is None
+            else self._calibrate(first_image, "first current image")
+        )
+        first = measure(first_image, border=self.border)
+        self.last["current"] = _Frame(first_image, first)
         predicted = self._predicted(start, "current")
         match = self.tracker.start(first.centres, predicted, self._centre(), reference)
         self._current = self._points(match, first)
         self.status = first.status
         return goal_points, goal_visible
+
+    def _calibrate(self, image: NDArray[np.uint8], what: str) -> BorderFit:
+        border = fit_mirror_border(image)
+        if border is None:
+            raise ValueError(
+                f"the mirror border was not found in the {what} (a black, blank or saturated "
+                f"frame: exposure={self.quality.exposure!r}), so there is no calibration"
+            )
+        return border
 
     def _gate(self) -> float:
         return 0.04 * self._renderer("current").size
