@@ -373,3 +373,18 @@ def test_a_goal_image_from_another_mirror_gets_its_own_calibration_and_the_ibvs_
         obs, _, terminated, truncated, info = env.step(action)
         done = terminated or truncated
     assert info["is_success"], info
+
+
+def test_random_rooms_redraw_an_episode_whose_goal_image_shows_too_few_beacons() -> None:
+    # 2 of these 60 first draws show only 2 detectable beacons at the goal: they are redrawn
+    env = _detected_env(scenario="random")
+    goals = []
+    for seed in range(60):
+        _, info = env.reset(seed=seed)
+        assert (env.unwrapped._goal_visible.sum()) >= 3
+        goals.append(info["goal_pose"])
+    _, info = env.reset(seed=17)
+    np.testing.assert_array_equal(info["goal_pose"], goals[17])  # still one draw per seed
+    tiny = _detected_env(scenario="random", beacon_radius=0.001)  # beacons nobody can see
+    with pytest.raises(ValueError, match=r"detected at the goal .* \(in 10 draws\)"):
+        tiny.reset(seed=0)

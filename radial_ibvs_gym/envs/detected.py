@@ -149,9 +149,8 @@ class DetectedPoints:
             result.centres, self._predicted(goal, "goal"), goal_border.centre
         )
         goal_points, goal_visible = self._points(goal_match, result)
-        reference = np.where(
-            goal_visible[:, None], result.centres[np.maximum(goal_match, 0)], np.nan
-        )
+        reference = np.full((n, 2), np.nan)  # the goal image's positions: the cyclic order
+        reference[goal_visible] = result.centres[goal_match[goal_visible]]
         first_image = self._renderer("current").render(start, self.scene, self.quality, rng)
         # one calibration per camera: the goal camera's border, unless the current one differs
         self.border = (

@@ -80,7 +80,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     ``n_tracked``, ``principal_point_px``, ``rho_f`` and the ``rejected`` blob counts. A bad
     frame never raises: a landmark without a blob keeps its last position for 3 frames, then it
     is hidden; with fewer than ``min_visible`` left the episode ends "lost" as in ideal mode. A
-    goal image without a mirror border raises ``ValueError`` at reset (no calibration).
+    goal image without a mirror border raises ``ValueError`` at reset (no calibration); one with
+    fewer than ``min_visible`` detected beacons is drawn again (at most 10 times).
 
     ## Rewards
     ``r = progress + heading + precision + time + collision + lost + success`` (named in
@@ -325,36 +326,33 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         if unknown:
             raise ValueError(f"unknown reset option(s) {unknown}; valid: ['goal', 'start', 'task']")
         task = options.get("task", self.task)
-        episode = self.scenario.sample(self.np_random, task=task)
-        for key in ("start", "goal"):
-            if key in options:
-                pose = np.asarray(options[key], dtype=np.float64)
-                if pose.shape != (3,) or not np.isfinite(pose).all():
-                    raise ValueError(f"options[{key!r}] must be (x, y, yaw), got {options[key]!r}")
-                episode = (
-                    episode._replace(start=pose) if key == "start" else episode._replace(goal=pose)
+        # detected points: a goal image can show fewer beacons than the scenario guaranteed
+        # (too small, cut by the rim); draw again, a bounded number of times
+        attempts = 10 if self._detector is not None and "goal" not in options else 1
+        for attempt in range(attempts):
+            episode = self._draw_episode(task, options)
+            self._goal_depths = self.scenario.goal_depths(episode)
+            self._prepare_cameras()
+            if self._detector is not None:
+                goal_points, goal_visible = self._detector.reset(
+                    episode.room, episode.landmarks, episode.start, episode.goal, self.np_random
                 )
-        goal = episode.goal.astype(np.float64).copy()
-        goal[2] = wrap_angle_scalar(float(goal[2]))
-        self.episode = episode = episode._replace(goal=goal)
+            else:
+                goal_points, goal_visible = self._image(episode.goal, "goal")
+            if goal_visible.sum() >= self.min_visible:
+                break
+            if attempt == attempts - 1:
+                seen = "detected" if self._detector is not None else "visible"
+                raise ValueError(
+                    f"only {int(goal_visible.sum())} landmarks are {seen} at the goal "
+                    f"{episode.goal.tolist()}; at least {self.min_visible} are needed"
+                    + (f" (in {attempts} draws)" if attempts > 1 else "")
+                )
         room = (float(episode.room[0]), float(episode.room[1]))
         extra = {"physics_dt": self.physics_dt} if self.physics == "pymunk" else {}
         obstacles = self.scenario.config.obstacles
         self.world = make_world(self.physics, self.robot, room, obstacles=obstacles, **extra)
         self.world.reset(episode.start)
-        self._goal_depths = self.scenario.goal_depths(episode)
-        self._prepare_cameras()
-        if self._detector is not None:
-            goal_points, goal_visible = self._detector.reset(
-                episode.room, episode.landmarks, episode.start, episode.goal, self.np_random
-            )
-        else:
-            goal_points, goal_visible = self._image(episode.goal, "goal")
-        if goal_visible.sum() < self.min_visible:
-            raise ValueError(
-                f"only {int(goal_visible.sum())} landmarks are visible at the goal "
-                f"{episode.goal.tolist()}; at least {self.min_visible} are needed"
-            )
         self._goal_points = goal_points
         self._goal_visible = goal_visible
         if self.obs_mode == "features":
@@ -373,6 +371,22 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         pos_err, head_err = self._prev_errors
         info = self._info(episode.start, pos_err, head_err, False, False)
         return self._obs(), info
+
+    def _draw_episode(self, task: int | None, options: dict[str, Any]) -> Episode:
+        """Draw an episode from the scenario, with the start and goal ``options`` applied."""
+        episode = self.scenario.sample(self.np_random, task=task)
+        for key in ("start", "goal"):
+            if key in options:
+                pose = np.asarray(options[key], dtype=np.float64)
+                if pose.shape != (3,) or not np.isfinite(pose).all():
+                    raise ValueError(f"options[{key!r}] must be (x, y, yaw), got {options[key]!r}")
+                episode = (
+                    episode._replace(start=pose) if key == "start" else episode._replace(goal=pose)
+                )
+        goal = episode.goal.astype(np.float64).copy()
+        goal[2] = wrap_angle_scalar(float(goal[2]))
+        self.episode = episode = episode._replace(goal=goal)
+        return episode
 
     # --- rendering -----------------------------------------------------------------------------
     def render(self) -> np.ndarray | None:
