@@ -428,9 +428,9 @@ def read_progress_csv(path: Path | str) -> dict[str, NDArray[np.float64]]:
 def preserve_matplotlib_backend() -> Iterator[None]:
     """Restore matplotlib's backend on exit.
 
-    Some package functions that save figures (the training's learning curve, the benchmark's
-    and the reproduction's figures) switch matplotlib to ``Agg``; in Jupyter that would stop
-    later figures from showing inline. Wrap such calls in this context.
+    A guard around calls that may switch matplotlib's backend (third-party savers do; in
+    Jupyter a switch to ``Agg`` stops later figures from showing inline). This package's own
+    savers keep the current backend.
     """
     import matplotlib
     import matplotlib.pyplot as plt
