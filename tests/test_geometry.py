@@ -210,3 +210,18 @@ def test_world_to_camera_broadcasts_a_trajectory_of_poses_over_one_point_set() -
     assert out.shape == (3, 2, 3)
     for k, pose in enumerate(poses):
         np.testing.assert_allclose(out[k], world_to_camera(points, pose, 1.0), atol=1e-15)
+
+
+def test_relative_pose_agrees_with_world_to_camera_and_wraps_the_yaw() -> None:
+    from radial_ibvs_gym.geometry import relative_pose, world_to_camera
+
+    rng = np.random.default_rng(3)
+    frames = rng.uniform([-5, -5, -np.pi], [5, 5, np.pi], (50, 3))
+    poses = rng.uniform([-5, -5, -np.pi], [5, 5, np.pi], (50, 3))
+    rel = relative_pose(frames, poses)
+    points = np.concatenate([poses[:, :2], np.zeros((50, 1))], axis=-1)
+    for k in range(50):
+        in_camera = world_to_camera(points[k : k + 1], frames[k], 0.0)[0]
+        np.testing.assert_allclose(rel[k, :2], in_camera[:2], atol=1e-12)
+    assert np.all((rel[:, 2] >= -np.pi) & (rel[:, 2] < np.pi))
+    np.testing.assert_allclose(relative_pose(frames, frames), 0.0, atol=1e-12)

@@ -4,18 +4,26 @@ from __future__ import annotations
 
 import io
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from radial_ibvs_gym.experiments.reproduce import write_atomic
+from radial_ibvs_gym.geometry import relative_pose
 
 if TYPE_CHECKING:
     from radial_ibvs_gym.experiments.benchmark import JobResult
 
-__all__ = ["plot_convergence_map", "plot_success", "plot_trajectories"]
+__all__ = [
+    "draw_convergence_map",
+    "plot_convergence_map",
+    "plot_success",
+    "plot_trajectories",
+    "starts_in_goal_frame",
+]
 
 
 def _pyplot() -> Any:
@@ -90,32 +98,75 @@ def plot_convergence_map(rows: Sequence[dict[str, Any]], path: Path) -> Path:
     rows = [r for r in rows if r["suite"] == "random"]
     policies = list(dict.fromkeys(r["policy"] for r in rows))
     fig, axes = plt.subplots(1, len(policies), figsize=(3.6 * len(policies), 3.8), squeeze=False)
-    for ax, policy in zip(axes[0], policies, strict=True):
-        mine = [r for r in rows if r["policy"] == policy]
-        for outcome, marker, color in (("parked", "o", "C2"), ("failed", "x", "C3")):
-            pts = []
-            for r in mine:
-                if (outcome == "parked") != bool(r["success"]):
-                    continue
-                gx, gy, gyaw = r["goal_pose"]
-                dx, dy = r["start_pose"][0] - gx, r["start_pose"][1] - gy
-                c, s = math.cos(gyaw), math.sin(gyaw)
-                pts.append((c * dx + s * dy, -s * dx + c * dy))
-            if pts:
-                arr = np.array(pts)
-                ax.scatter(arr[:, 0], arr[:, 1], s=12, marker=marker, color=color, label=outcome)
-        ax.plot(0, 0, "ks", ms=6)
-        ax.arrow(0, 0, 0.6, 0, width=0.04, color="k")
-        rate = np.mean([bool(r["success"]) for r in mine]) if mine else math.nan
-        ax.set_title(f"{policy}: {rate:.0%} of {len(mine)}")
-        ax.set_aspect("equal")
-        ax.set_xlabel("start x in the goal frame [m]")
-        ax.grid(alpha=0.3)
-    axes[0, 0].set_ylabel("start y in the goal frame [m]")
+    for k, (ax, policy) in enumerate(zip(axes[0], policies, strict=True)):
+        draw_convergence_map(ax, [r for r in rows if r["policy"] == policy], policy)
+        if k:
+            ax.set_ylabel("")
     axes[0, 0].legend(fontsize=7, loc="lower left")
     fig.suptitle("domain of convergence (random rooms; the goal at the origin, heading +x)")
     fig.tight_layout()
     return _save(fig, path)
+
+
+def starts_in_goal_frame(
+    rows: Sequence[Mapping[str, Any]],
+) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    """Start positions in the frame of each episode's goal, and whether the robot parked.
+
+    Parameters
+    ----------
+    rows
+        Benchmark rows (:func:`~radial_ibvs_gym.experiments.benchmark.run_benchmark`) with
+        ``start_pose``, ``goal_pose`` (``(x, y, yaw)``, metres and radians) and ``success``.
+
+    Returns
+    -------
+    xy
+        ``(K, 2)`` start positions with the goal at the origin heading along +x, metres.
+    success
+        ``(K,)`` whether each episode parked.
+    """
+    if not rows:
+        return np.zeros((0, 2)), np.zeros(0, dtype=bool)
+    start = np.array([r["start_pose"] for r in rows], dtype=np.float64)
+    goal = np.array([r["goal_pose"] for r in rows], dtype=np.float64)
+    xy = relative_pose(goal, start)[:, :2]  # the start seen from the goal
+    return xy, np.array([bool(r["success"]) for r in rows])
+
+
+def draw_convergence_map(ax: Any, rows: Sequence[Mapping[str, Any]], title: str = "") -> float:
+    """Draw start positions in the goal's frame, green where the robot parked, red where not.
+
+    Parameters
+    ----------
+    ax
+        Matplotlib axes (equal aspect, metres).
+    rows
+        Benchmark rows of one policy (see :func:`starts_in_goal_frame`).
+    title
+        Axes title; the success rate is appended.
+
+    Returns
+    -------
+    float
+        The success rate (NaN without rows).
+    """
+    xy, success = starts_in_goal_frame(rows)
+    for mask, marker, color, label in (
+        (success, "o", "C2", "parked"),
+        (~success, "x", "C3", "failed"),
+    ):
+        if mask.any():
+            ax.scatter(xy[mask, 0], xy[mask, 1], s=14, marker=marker, color=color, label=label)
+    ax.plot(0.0, 0.0, "ks", ms=6)
+    ax.arrow(0.0, 0.0, 0.6, 0.0, width=0.04, color="k", lw=0)
+    rate = float(success.mean()) if len(success) else math.nan
+    ax.set_title(f"{title}: {rate:.0%} of {len(success)}" if title else f"{rate:.0%}")
+    ax.set_aspect("equal")
+    ax.set_xlabel("start x in the goal frame [m]")
+    ax.set_ylabel("start y in the goal frame [m]")
+    ax.grid(alpha=0.3)
+    return rate
 
 
 def plot_trajectories(results: Sequence[JobResult], path: Path) -> Path:

@@ -38,9 +38,10 @@ import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from agents.ibvs import IBVSPolicy
 from agents.rollout import EpisodeLog, run_episode
 from agents.zoo import TrainConfig
-from radial_ibvs_gym._validation import as_float_array, check_finite, check_last_dim
+from radial_ibvs_gym._validation import as_float_array
 from radial_ibvs_gym.camera import radial_points
-from radial_ibvs_gym.geometry import world_to_camera, wrap_angle
+from radial_ibvs_gym.experiments.benchmark_plots import draw_convergence_map, starts_in_goal_frame
+from radial_ibvs_gym.geometry import relative_pose, world_to_camera
 
 if TYPE_CHECKING:
     from matplotlib.axes import Axes
@@ -87,15 +88,7 @@ def goal_in_robot_frame(robot_pose: ArrayLike, goal_pose: ArrayLike) -> NDArray[
     ValueError
         For shapes other than ``(..., 3)`` or NaN/inf.
     """
-    robot = as_float_array(robot_pose, "robot_pose")
-    goal = as_float_array(goal_pose, "goal_pose")
-    for array, name in ((robot, "robot_pose"), (goal, "goal_pose")):
-        check_last_dim(array, 3, name)
-        check_finite(array, name)
-    dx, dy = goal[..., 0] - robot[..., 0], goal[..., 1] - robot[..., 1]
-    c, s = np.cos(robot[..., 2]), np.sin(robot[..., 2])
-    rotation = wrap_angle(goal[..., 2] - robot[..., 2])
-    return np.stack(np.broadcast_arrays(c * dx + s * dy, -s * dx + c * dy, rotation), axis=-1)
+    return relative_pose(robot_pose, goal_pose)
 
 
 def ideal_observation(
@@ -286,32 +279,6 @@ def hausdorff_distance(path_a: ArrayLike, path_b: ArrayLike) -> float:
             raise ValueError(f"{name} must be a non-empty (N, >=2) array, got {array.shape}")
     d = np.linalg.norm(a[:, None, :2] - b[None, :, :2], axis=-1)
     return float(max(d.min(axis=1).max(), d.min(axis=0).max()))
-
-
-def starts_in_goal_frame(
-    rows: Sequence[Mapping[str, Any]],
-) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-    """Start positions in the frame of each episode's goal, and whether the robot parked.
-
-    Parameters
-    ----------
-    rows
-        Benchmark rows (:func:`~radial_ibvs_gym.experiments.benchmark.run_benchmark`) with
-        ``start_pose``, ``goal_pose`` (``(x, y, yaw)``, metres and radians) and ``success``.
-
-    Returns
-    -------
-    xy
-        ``(K, 2)`` start positions with the goal at the origin heading along +x, metres.
-    success
-        ``(K,)`` whether each episode parked.
-    """
-    if not rows:
-        return np.zeros((0, 2)), np.zeros(0, dtype=bool)
-    start = np.array([r["start_pose"] for r in rows], dtype=np.float64)
-    goal = np.array([r["goal_pose"] for r in rows], dtype=np.float64)
-    xy = goal_in_robot_frame(goal, start)[:, :2]  # the start seen from the goal
-    return xy, np.array([bool(r["success"]) for r in rows])
 
 
 # --- training --------------------------------------------------------------------------------
@@ -548,38 +515,3 @@ def draw_servoing(axes: Any, log: EpisodeLog, lam: float = 0.5) -> dict[str, NDA
     draw_paths(axes[1][2], [log])
     axes[1][2].set_title("path")
     return s
-
-
-def draw_convergence_map(ax: Axes, rows: Sequence[Mapping[str, Any]], title: str = "") -> float:
-    """Draw start positions in the goal's frame, green where the robot parked, red where not.
-
-    Parameters
-    ----------
-    ax
-        Matplotlib axes (equal aspect, metres).
-    rows
-        Benchmark rows of one policy (see :func:`starts_in_goal_frame`).
-    title
-        Axes title; the success rate is appended.
-
-    Returns
-    -------
-    float
-        The success rate (NaN without rows).
-    """
-    xy, success = starts_in_goal_frame(rows)
-    for mask, marker, color, label in (
-        (success, "o", "C2", "parked"),
-        (~success, "x", "C3", "failed"),
-    ):
-        if mask.any():
-            ax.scatter(xy[mask, 0], xy[mask, 1], s=14, marker=marker, color=color, label=label)
-    ax.plot(0.0, 0.0, "ks", ms=6)
-    ax.arrow(0.0, 0.0, 0.6, 0.0, width=0.04, color="k", lw=0)
-    rate = float(success.mean()) if len(success) else math.nan
-    ax.set_title(f"{title}: {rate:.0%} of {len(success)}" if title else f"{rate:.0%}")
-    ax.set_aspect("equal")
-    ax.set_xlabel("start x in the goal frame [m]")
-    ax.set_ylabel("start y in the goal frame [m]")
-    ax.grid(alpha=0.3)
-    return rate

@@ -8,8 +8,9 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from radial_ibvs_gym._validation import as_float_array, check_finite, check_last_dim
+from radial_ibvs_gym.geometry.angles import wrap_angle
 
-__all__ = ["world_to_camera"]
+__all__ = ["relative_pose", "world_to_camera"]
 
 
 def world_to_camera(
@@ -56,3 +57,35 @@ def world_to_camera(
         c, s = np.cos(q[..., None, 2]), np.sin(q[..., None, 2])
     z = np.broadcast_to(p[..., 2] - camera_height, np.shape(dx))  # poses may add batch axes
     return np.stack([c * dx + s * dy, -s * dx + c * dy, z], axis=-1)
+
+
+def relative_pose(frame: ArrayLike, pose: ArrayLike) -> NDArray[np.float64]:
+    """Express planar poses in the frame of other planar poses.
+
+    Parameters
+    ----------
+    frame
+        ``(..., 3)`` poses ``(x, y, yaw)`` defining the frames, world frame, metres and radians.
+    pose
+        ``(..., 3)`` poses to express, world frame (broadcast against ``frame``).
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(..., 3)``: ``pose``'s position in ``frame`` (x forward, y left; metres) and its yaw
+        minus ``frame``'s, wrapped to ``[-pi, pi)`` (radians).
+
+    Raises
+    ------
+    ValueError
+        For shapes other than ``(..., 3)`` or NaN/inf.
+    """
+    f = as_float_array(frame, "frame")
+    p = as_float_array(pose, "pose")
+    for array, name in ((f, "frame"), (p, "pose")):
+        check_last_dim(array, 3, name)
+        check_finite(array, name)
+    dx, dy = p[..., 0] - f[..., 0], p[..., 1] - f[..., 1]
+    c, s = np.cos(f[..., 2]), np.sin(f[..., 2])
+    yaw = wrap_angle(p[..., 2] - f[..., 2])
+    return np.stack(np.broadcast_arrays(c * dx + s * dy, -s * dx + c * dy, yaw), axis=-1)

@@ -16,6 +16,7 @@ Coordinates are image pixels ``(column, row)``, the centre of the top-left pixel
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -174,6 +175,18 @@ def fit_mirror_border(image: NDArray[np.uint8], min_fill: float = 0.2) -> Border
     )
 
 
+@functools.lru_cache(maxsize=8)
+def _grid(
+    rows: int, cols: int, cu: float, cv: float, au: float, av: float
+) -> tuple[NDArray[np.int_], NDArray[np.int_], NDArray[np.float64]]:
+    """Pixel rows, columns and elliptic radius about the border (cached: fixed per episode)."""
+    yy, xx = np.mgrid[0:rows, 0:cols]
+    radius = np.hypot((xx - cu) / au, (yy - cv) / av)
+    for array in (yy, xx, radius):
+        array.flags.writeable = False
+    return yy, xx, radius
+
+
 def detect_beacons(
     image: NDArray[np.uint8],
     border: BorderFit,
@@ -216,9 +229,8 @@ def detect_beacons(
     """
     image = _check_image(image)
     rows, cols = image.shape
-    yy, xx = np.mgrid[0:rows, 0:cols]
-    radius = np.hypot(
-        (xx - border.centre[0]) / border.semi_axes[0], (yy - border.centre[1]) / border.semi_axes[1]
+    yy, xx, radius = _grid(
+        rows, cols, *(float(v) for v in border.centre), *(float(v) for v in border.semi_axes)
     )
     scale = float(border.semi_axes.mean())
     inner = (radius < 1.0 - rim_margin_px / scale) & (radius > centre_exclusion)
