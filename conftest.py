@@ -6,6 +6,11 @@ they run in full.
 """
 
 import os
+import sys
+from pathlib import Path
 
 os.environ.setdefault("RADIAL_IBVS_FAST", "1")
 os.environ.setdefault("MPLBACKEND", "Agg")
+
+# the notebooks' helpers (notebooks/_helpers) are imported as ``_helpers``, as the notebooks do
+sys.path.insert(0, str(Path(__file__).resolve().parent / "notebooks"))

@@ -11,7 +11,8 @@ Sign conventions fixed here (camera twist ``(v, omega)``, ``dP/dt = -v - omega x
 - eq. (30), rotation: ``alpha_m`` of the current image is ``alpha_m* + L*_alpha_m,v . t - theta``
   (``theta``: current yaw minus goal yaw), so ``omega*_z = lambda (alpha*_m - alpha_m)
   + L*_alpha_m,v . v*`` recovers ``lambda theta``. The paper prints ``-`` before the
-  compensation terms (PAPER_NOTES misprint 1); with it ``gamma`` is wrong by ``O(r / d)``.
+  compensation terms (``docs/notes-controller.md``, misprint 1); with it ``gamma`` is wrong
+  by ``O(r / d)``.
 - ``omega_z = -omega*_z`` and ``gamma = omega_z / lambda`` (eq. 37) is then the rotation from
   the current to the goal orientation, ``-theta``.
 - eq. (36)-(37): ``(v_x, v_y) = -R(gamma) v*``, the velocity that moves the current camera

@@ -1,4 +1,4 @@
-"""Policies by name, as the CLI and the benchmark use them (``../docs``: CONTRACTS).
+"""Policies by name, as the CLI and the benchmark use them (README, "Command line").
 
 Every policy has stable-baselines3's ``predict(observation, state=None, episode_start=None,
 deterministic=True) -> (action, state)`` and an ``env_kwargs`` mapping: what ``gym.make`` must

@@ -11,7 +11,8 @@ Sign conventions follow ROS 2 nav2's ``nav2_graceful_controller`` (``EgocentricP
 the line of sight is ``atan2(-dy, dx)`` and ``phi``, ``delta`` are the target and robot yaws plus
 that angle, wrapped to ``[-pi, pi)``; i.e. both angles are measured clockwise from the line of
 sight. The paper's eq. (38) lacks the leading minus because it measures them the other way
-(PAPER_NOTES, misprint 3). The linear speed follows nav2: ``v = v_max / (1 + beta |kappa|^lambda)``,
+(``docs/notes-controller.md``, misprint 3). The linear speed follows nav2:
+``v = v_max / (1 + beta |kappa|^lambda)``,
 slowed within ``slowdown_radius`` of the target, clamped to ``[v_min, v_max]``; ``omega =
 kappa v`` is clamped to ``omega_max`` and ``v`` re-derived so the curvature is kept.
 """

@@ -27,6 +27,8 @@ from stable_baselines3.common.logger import configure
 from stable_baselines3.common.vec_env import VecNormalize
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
+from agents.io import write_json
+from agents.plotting import save_figure
 from agents.zoo import TrainConfig
 
 __all__ = ["ALGOS", "export_model", "save_normalization", "train"]
@@ -222,7 +224,7 @@ def train(
         "env_steps_per_s": round(steps / wall, 1),
         "learning_curve": curve,
     }
-    (out / "metadata.json").write_text(json.dumps(metadata, indent=1) + "\n")
+    write_json(out / "metadata.json", metadata)
     if (best_dir / "best_model.zip").is_file():
         shutil.copy(best_dir / "best_model.zip", out / "best_model.zip")
     if curve:
@@ -262,8 +264,7 @@ def _plot_learning_curve(curve: list[dict[str, float]], path: Path, title: str) 
     ax.set_title(title)
     ax.grid(alpha=0.3)
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    save_figure(fig, path)
 
 
 def export_model(train_dir: Path | str, dest: Path | str, *, best: bool = True) -> Path:
@@ -298,7 +299,7 @@ def export_model(train_dir: Path | str, dest: Path | str, *, best: bool = True) 
     if use_best and metadata.get("learning_curve"):
         top = max(metadata["learning_curve"], key=lambda r: r["mean_return"])
         metadata["shipped_at_timesteps"] = top["timesteps"]
-    (out / "metadata.json").write_text(json.dumps(metadata, indent=1) + "\n")
+    write_json(out / "metadata.json", metadata)
     for name in ("logs/progress.csv", "learning_curve.png"):
         if (src / name).is_file():
             shutil.copy(src / name, out / Path(name).name)

@@ -13,11 +13,11 @@ import gymnasium as gym
 import numpy as np
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
-from radial_ibvs_gym.envs.detected import room_scene
-from radial_ibvs_gym.experiments.pixels import DEGRADED, detection_accuracy
-from radial_ibvs_gym.render import OmniRenderer
-from radial_ibvs_gym.render.detect import measure
+from agents.experiments.pixels import DEGRADED, detection_accuracy
 from radial_ibvs_gym.scenarios import load_scenario
+from radial_ibvs_gym.vision import OmniRenderer
+from radial_ibvs_gym.vision.detect import measure
+from radial_ibvs_gym.vision.pipeline import room_scene
 
 
 def per_call_ms(fn, repeat: int = 200) -> float:

@@ -1,7 +1,7 @@
 """The numbers of the paper's simulations (Section 4.1) and the choices that complete them.
 
 Values marked *paper* are printed in Aliakbarpour, Tahri and Araujo (RAS 2014); values marked
-*choice* are not given there (see ``docs/`` and PAPER_NOTES) and were chosen so that all eight
+*choice* are not given there (see ``docs/reading-the-paper.md``) and were chosen so that all eight
 points stay in mirror A's field of view on the four parking paths.
 """
 

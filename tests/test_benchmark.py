@@ -8,10 +8,10 @@ from pathlib import Path
 
 import pytest
 
-from radial_ibvs_gym.cli import main
-from radial_ibvs_gym.experiments.benchmark import run_benchmark, summary_rows
-from radial_ibvs_gym.experiments.evaluate import wilson_interval
-from radial_ibvs_gym.experiments.suites import SUITES, suite_variants
+from agents.cli import main
+from agents.experiments.benchmark import run_benchmark, summary_rows
+from agents.experiments.evaluate import wilson_interval
+from agents.experiments.suites import SUITES, suite_variants
 
 
 def test_every_suite_of_the_issue_exists_with_its_variants() -> None:
@@ -140,7 +140,7 @@ def test_render_rejects_bad_formats_before_running(
 
 
 def test_long_variants_are_split_into_chunks_and_merged_back_in_seed_order(monkeypatch) -> None:
-    from radial_ibvs_gym.experiments import benchmark
+    from agents.experiments import benchmark
 
     monkeypatch.setattr(benchmark, "CHUNK", 3)
     results = run_benchmark(["random"], ["mirror-swap"], episodes=7, workers=2, progress=False)

@@ -5,10 +5,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from agents.cli import main
+from agents.experiments.demo import invariance_error
 from radial_ibvs_gym import paper
 from radial_ibvs_gym.camera import paper_camera
-from radial_ibvs_gym.cli import main
-from radial_ibvs_gym.demo import invariance_error
 from radial_ibvs_gym.geometry import world_to_camera
 
 

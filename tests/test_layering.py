@@ -1,57 +1,152 @@
-"""The maths layers never import the simulation or RL stack (one-way imports)."""
+"""Imports flow one way: maths -> simulation -> envs, and ``agents`` -> ``radial_ibvs_gym``.
+
+Checked twice: on the source (every ``import`` statement, lazy ones inside functions included,
+but not those under ``TYPE_CHECKING``) and in a fresh interpreter (what importing a layer
+really loads, transitively).
+"""
 
 from __future__ import annotations
 
 import ast
+import json
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
-PACKAGE = Path(__file__).resolve().parents[1] / "radial_ibvs_gym"
-#: lower layers first; a layer may import only itself and the layers before it
-LAYERS = ("config", "geometry", "camera", "features", "render", "physics", "scenarios")
-#: layers that must stay free of the simulation/RL stack (those that exist yet)
-MATHS_LAYERS = tuple(name for name in LAYERS[1:] if (PACKAGE / name).is_dir())
-FORBIDDEN = ("gymnasium", "pymunk", "stable_baselines3", "torch", "matplotlib", "agents")
-#: what each layer may import from the outside world beyond numpy and the standard library
-EXTRA_ALLOWED = {"physics": {"pymunk"}, "render": {"cv2"}}
+ROOT = Path(__file__).resolve().parents[1]
+PACKAGE = ROOT / "radial_ibvs_gym"
+#: lower layers first; a layer may import only itself, the layers before it and the base modules
+LAYERS = ("config", "geometry", "camera", "features", "vision", "physics", "scenarios", "envs")
+#: single modules every layer may use: validation helpers, the paper's numbers, the env ids
+BASE = {"_validation", "paper", "registration"}
+#: what each layer may import from outside the standard library, numpy and yaml
+EXTRA_ALLOWED = {
+    "vision": {"cv2"},
+    "physics": {"pymunk"},
+    "envs": {"gymnasium", "pymunk", "cv2", "matplotlib"},
+}
+HEAVY = ("gymnasium", "pymunk", "cv2", "torch", "matplotlib", "stable_baselines3")
+#: the maths: importing any of these loads numpy and nothing heavier
+MATHS = ("radial_ibvs_gym", "radial_ibvs_gym.config", "radial_ibvs_gym.geometry",
+         "radial_ibvs_gym.camera", "radial_ibvs_gym.features")  # fmt: skip
+
+
+def _modules(package: str) -> dict[str, Path]:
+    out = {}
+    for path in sorted((ROOT / package).rglob("*.py")):
+        parts = list(path.relative_to(ROOT).with_suffix("").parts)
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        out[".".join(parts)] = path
+    return out
+
+
+MODULES = {**_modules("radial_ibvs_gym"), **_modules("agents")}
 
 
 def _imports(path: Path) -> set[str]:
+    """Every module named by an import in ``path``, except under ``if TYPE_CHECKING:``."""
     tree = ast.parse(path.read_text(), filename=str(path))
+    typing_only = {
+        id(inner)
+        for node in ast.walk(tree)
+        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test)
+        for inner in ast.walk(node)
+    }
     names: set[str] = set()
     for node in ast.walk(tree):
+        if id(node) in typing_only:
+            continue
         if isinstance(node, ast.Import):
             names.update(alias.name for alias in node.names)
         elif isinstance(node, ast.ImportFrom) and node.module and node.level == 0:
             names.add(node.module)
+            names.update(f"{node.module}.{alias.name}" for alias in node.names)
     return names
 
 
-@pytest.mark.parametrize("layer", MATHS_LAYERS)
-def test_maths_layer_imports_only_numpy_and_lower_layers(layer: str) -> None:
+@pytest.mark.parametrize("layer", LAYERS)
+def test_each_layer_imports_only_lower_layers_and_its_allowed_libraries(layer: str) -> None:
     files = sorted((PACKAGE / layer).rglob("*.py"))
     assert files, f"no module found in {layer}"
+    allowed_layers = {*BASE, *LAYERS[: LAYERS.index(layer) + 1]}
+    forbidden = set(HEAVY) - EXTRA_ALLOWED.get(layer, set())
     for path in files:
         for name in _imports(path):
             top = name.split(".")[0]
-            allowed_outside = EXTRA_ALLOWED.get(layer, set())
-            assert top not in set(FORBIDDEN) - allowed_outside, f"{path.name} imports {name}"
+            assert top not in forbidden, f"{path.relative_to(ROOT)} imports {name}"
+            assert top != "agents", f"{path.relative_to(ROOT)} imports {name}"
             if name.startswith("radial_ibvs_gym."):
                 sub = name.split(".")[1]
-                allowed = {"_validation", *LAYERS[: LAYERS.index(layer) + 1]}
-                assert sub in allowed, f"{path.name} imports the higher layer {name}"
+                assert sub in allowed_layers, f"{path.relative_to(ROOT)} imports {name}"
 
 
-def test_only_the_top_layer_imports_the_experiments_and_agents_never_import_it() -> None:
-    # envs -> agents -> experiments/CLI: nothing below the experiments imports them
-    root = PACKAGE.parent
-    below = [*sorted((PACKAGE / "envs").rglob("*.py")), *sorted((root / "agents").rglob("*.py"))]
-    for layer in LAYERS:
-        below.extend(sorted((PACKAGE / layer).rglob("*.py")))
-    for path in below:
-        for name in _imports(path):
-            assert not name.startswith("radial_ibvs_gym.experiments"), f"{path} imports {name}"
-            assert not name.startswith("radial_ibvs_gym.cli"), f"{path} imports {name}"
-    for path in sorted((PACKAGE / "envs").rglob("*.py")):
-        assert not any(n.split(".")[0] == "agents" for n in _imports(path)), path
+def test_no_module_of_the_env_package_imports_agents() -> None:
+    for module, path in MODULES.items():
+        if module.startswith("radial_ibvs_gym"):
+            bad = [n for n in _imports(path) if n.split(".")[0] == "agents"]
+            assert not bad, f"{module} imports {bad}"
+
+
+def test_the_import_graph_has_no_cycle() -> None:
+    # ("from package import submodule" in the package itself names the package: not an edge)
+    graph = {m: {n for n in _imports(p) if n in MODULES and n != m} for m, p in MODULES.items()}
+    state: dict[str, int] = {}  # 1: on the current path, 2: done
+
+    def visit(module: str, path: list[str]) -> None:
+        state[module] = 1
+        for target in sorted(graph[module]):
+            if state.get(target) == 1:
+                cycle = [*path[path.index(target) :], target]
+                raise AssertionError("import cycle: " + " -> ".join(cycle))
+            if target not in state:
+                visit(target, [*path, target])
+        state[module] = 2
+
+    for module in sorted(graph):
+        if module not in state:
+            visit(module, [module])
+
+
+def _loaded_after(statement: str) -> list[str]:
+    code = (
+        f"import json, sys; {statement}; "
+        f"print(json.dumps(sorted(m for m in {list(HEAVY)!r} if m in sys.modules)))"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT
+    )
+    return list(json.loads(out.stdout.strip().splitlines()[-1]))
+
+
+@pytest.mark.parametrize("module", MATHS)
+def test_importing_the_maths_loads_nothing_heavier_than_numpy(module: str) -> None:
+    assert _loaded_after(f"import {module}") == []
+
+
+def test_importing_the_vision_and_the_physics_loads_no_rl_stack() -> None:
+    assert _loaded_after("import radial_ibvs_gym.vision") == ["cv2"]
+    assert _loaded_after("import radial_ibvs_gym.physics") == ["pymunk"]
+
+
+@pytest.mark.parametrize(
+    "statement",
+    [
+        "import radial_ibvs_gym; import gymnasium as gym",
+        "import gymnasium as gym; import radial_ibvs_gym",
+        "import radial_ibvs_gym.camera; import gymnasium as gym",
+    ],
+)
+def test_the_envs_are_registered_whichever_is_imported_first(statement: str) -> None:
+    code = (
+        f"{statement}; from radial_ibvs_gym.registration import ENV_IDS; "
+        "assert all(i in gym.registry for i in ENV_IDS); "
+        "env = gym.make('RadialIBVS/Parking-v0', physics='kinematic'); env.reset(seed=0); "
+        "import importlib.resources; importlib.resources.files('gymnasium'); print('ok')"
+    )
+    out = subprocess.run(
+        [sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT
+    )
+    assert out.stdout.strip().endswith("ok")

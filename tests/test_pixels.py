@@ -9,9 +9,9 @@ import pytest
 
 from radial_ibvs_gym.camera import Imperfections, paper_camera
 from radial_ibvs_gym.geometry import world_to_camera
-from radial_ibvs_gym.render import ImageQuality, OmniRenderer, RoomScene
-from radial_ibvs_gym.render.detect import detect_beacons, fit_mirror_border, measure
-from radial_ibvs_gym.render.track import BeaconTracker, assign
+from radial_ibvs_gym.vision import ImageQuality, OmniRenderer, RoomScene
+from radial_ibvs_gym.vision.detect import detect_beacons, fit_mirror_border, measure
+from radial_ibvs_gym.vision.track import BeaconTracker, assign
 
 HEIGHT = 1.0  # camera height above the floor, metres (the paper-lab robot)
 ROOM = (6.0, 5.0)
@@ -332,8 +332,8 @@ def test_bad_detected_mode_arguments_are_rejected() -> None:
 
 
 def test_the_image_command_draws_the_measurement(tmp_path) -> None:
-    from radial_ibvs_gym.cli import main
-    from radial_ibvs_gym.experiments.pixels import detection_accuracy
+    from agents.cli import main
+    from agents.experiments.pixels import detection_accuracy
 
     out = tmp_path / "pixels.png"
     assert main(["image", "--scenario", "paper-lab", "--seed", "1", "--out", str(out)]) == 0

@@ -9,9 +9,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from radial_ibvs_gym.cli import main
-from radial_ibvs_gym.experiments import CASES, ROBUSTNESS_CASES, reproduce, write_atomic
-from radial_ibvs_gym.experiments.figures import servoing_signals
+from agents.cli import main
+from agents.experiments import CASES, ROBUSTNESS_CASES, reproduce
+from agents.experiments.figures import servoing_signals
+from agents.io import write_atomic
 
 CONTRACT_KEYS = {
     "policy",

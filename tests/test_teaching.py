@@ -1,13 +1,13 @@
-"""The helpers of the teaching notebooks (``radial_ibvs_gym.experiments.teaching``)."""
+"""The helpers of the teaching notebooks (``notebooks._helpers.teaching``)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from _helpers import teaching
 from matplotlib.figure import Figure
 
 from radial_ibvs_gym.camera import MIRROR_A, Imperfections, paper_camera, radial_points
-from radial_ibvs_gym.experiments import teaching
 from radial_ibvs_gym.features import (
     L_alpha,
     L_alpha_m,

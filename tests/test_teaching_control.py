@@ -1,4 +1,4 @@
-"""Helpers of the control notebooks (``radial_ibvs_gym.experiments.teaching_control``)."""
+"""Helpers of the control notebooks (``notebooks._helpers.teaching_control``)."""
 
 from __future__ import annotations
 
@@ -10,12 +10,12 @@ import matplotlib
 import matplotlib.pyplot as plt
 import numpy as np
 import pytest
+from _helpers import teaching_control as tc
 
 import radial_ibvs_gym  # noqa: F401
 from agents import IBVSPolicy, make_policy
 from agents.zoo import load_train_config
 from radial_ibvs_gym import paper
-from radial_ibvs_gym.experiments import teaching_control as tc
 
 CONFIG = Path(__file__).resolve().parents[1] / "configs" / "agents" / "ppo_parking.yaml"
 H = paper.CAMERA_HEIGHT_M
@@ -171,7 +171,7 @@ def test_preserve_matplotlib_backend() -> None:
 
 
 def test_drawing_helpers() -> None:
-    from radial_ibvs_gym.experiments.reproduce import reproduce
+    from agents.experiments.reproduce import reproduce
 
     logs = reproduce(physics=("kinematic",), tasks=[1], progress=False)
     fig, axes = plt.subplots(2, 3)

@@ -11,10 +11,10 @@ import pytest
 
 import radial_ibvs_gym  # noqa: F401
 from agents import make_policy
+from agents.cli import main
 from agents.learned import LearnedPolicy, load
 from agents.training import train
 from agents.zoo import load_train_config, parse_kwargs_string
-from radial_ibvs_gym.cli import main
 
 CONFIG = Path(__file__).resolve().parents[1] / "configs" / "agents" / "ppo_parking.yaml"
 
@@ -164,11 +164,11 @@ def test_bad_config_values_are_named(tmp_path: Path) -> None:
 
 
 def test_benchmark_skips_a_model_whose_observations_do_not_fit_the_suite(trained: Path) -> None:
-    from radial_ibvs_gym.experiments.benchmark import Job, _run_job
-    from radial_ibvs_gym.experiments.suites import Variant
+    from agents.experiments.jobs import Job, run_job
+    from agents.experiments.suites import Variant
 
     lab = Variant("lab", "9 beacons", "paper-lab", {"physics": "kinematic"}, 2, False)
-    result = _run_job(Job(str(trained), lab, 2))
+    result = run_job(Job(str(trained), lab, 2))
     assert result.skipped is not None and "shape" in result.skipped and not result.rows
 
 

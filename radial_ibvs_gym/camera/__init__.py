@@ -7,10 +7,13 @@
   visibility and imperfections;
 - :mod:`.radial`: the radial model, pixels or 3D points to the unit circle (eq. 4-9);
 - :mod:`.presets`: the paper's mirrors A and B with a 6 mm lens;
-- :mod:`.spec`: camera configs loaded from ``configs/cameras/*.yaml``.
+- :mod:`.spec`: camera configs loaded from ``configs/cameras/*.yaml``;
+- :mod:`.diagnostics`: eq. (7) on projected pixels against eq. (9), the mirror's circles in
+  the image.
 """
 
 from radial_ibvs_gym.camera.catadioptric import CatadioptricCamera, Imperfections, Projection
+from radial_ibvs_gym.camera.diagnostics import invariance_errors, mirror_circle_pixels
 from radial_ibvs_gym.camera.mirrors import (
     Cone,
     Ellipsoid,
@@ -39,7 +42,9 @@ __all__ = [
     "QuadricMirror",
     "RadialPoints",
     "Sphere",
+    "invariance_errors",
     "load_camera",
+    "mirror_circle_pixels",
     "normalise_pixels",
     "paper_camera",
     "paper_intrinsics",

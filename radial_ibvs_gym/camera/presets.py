@@ -2,9 +2,10 @@
 
 Mirror A: ``a = 20.8485 mm, b = 26.8578 mm`` (``e = 34.0000 mm``); mirror B: ``a = 23.6634 mm,
 b = 27.1301 mm`` (``e = 36.0000 mm``); both 50 mm in diameter, read as
-``(x^2 + y^2)/a^2 - z^2/b^2 = -1`` (see PAPER_NOTES). The paper gives neither the sensor nor the
-pixel size: we use a 1280 x 1024 sensor with 5.3 um pixels (a common 1.3 MP machine-vision
-sensor, consistent with the principal point (643, 535) measured in the paper), so
+``(x^2 + y^2)/a^2 - z^2/b^2 = -1`` (``docs/reading-the-paper.md``). The paper gives neither
+the sensor nor the pixel size: we use a 1280 x 1024 sensor with 5.3 um pixels
+(a common 1.3 MP machine-vision sensor, consistent with the principal point (643, 535) measured
+in the paper), so
 ``fx = fy = 6 mm / 5.3 um = 1132.1 px``. The lens radius seen in the mirror (the blind zone) is
 15 mm.
 

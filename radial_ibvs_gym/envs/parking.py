@@ -11,12 +11,12 @@ import numpy as np
 from gymnasium import spaces
 
 from radial_ibvs_gym.camera import normalise_pixels
-from radial_ibvs_gym.envs.detected import DetectedPoints
 from radial_ibvs_gym.features import c_ij, pair_indices, virtual_point_weights
 from radial_ibvs_gym.geometry import world_to_camera, wrap_angle_scalar
 from radial_ibvs_gym.physics import BACKENDS, RobotConfig, World, make_world, wheels_to_twist
-from radial_ibvs_gym.render import ImageQuality
 from radial_ibvs_gym.scenarios import Episode, Scenario, load_scenario
+from radial_ibvs_gym.vision import ImageQuality
+from radial_ibvs_gym.vision.pipeline import DetectedPoints
 
 __all__ = ["ParkingEnv"]
 
@@ -72,10 +72,10 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     ## Detected points
     With ``measurement="detected"`` the points come from images, as in the paper's lab
-    (Section 4.2): each frame is rendered (:mod:`radial_ibvs_gym.render`), the beacons are
+    (Section 4.2): each frame is rendered (:mod:`radial_ibvs_gym.vision`), the beacons are
     detected with OpenCV, normalised with the principal point and ``rho_f`` of the mirror border
     fitted on the goal image (eq. 7), and matched with the landmarks by a tracker
-    (:class:`~radial_ibvs_gym.render.track.BeaconTracker`; method in ``docs/pixels.md``).
+    (:class:`~radial_ibvs_gym.vision.track.BeaconTracker`; method in ``docs/pixels.md``).
     ``info["detection"]`` holds ``status`` (``"ok"`` or ``"no_beacons"``), ``n_detected``,
     ``n_tracked``, ``principal_point_px``, ``rho_f`` and the ``rejected`` blob counts. A bad
     frame never raises: a landmark without a blob keeps its last position for 3 frames, then it
@@ -404,7 +404,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         if self.world is None or self.episode is None:
             raise RuntimeError("call reset() before render()")
         if self._renderer is None:
-            from radial_ibvs_gym.envs.rendering import ParkingRenderer
+            from radial_ibvs_gym.envs.viewer import ParkingRenderer
 
             size = (self.robot.length, self.robot.width)
             self._renderer = ParkingRenderer(self.scenario, self.episode, size)

@@ -7,9 +7,9 @@ from typing import Any
 import numpy as np
 from gymnasium import spaces
 
-from radial_ibvs_gym.envs.detected import room_scene
 from radial_ibvs_gym.envs.parking import ParkingEnv
-from radial_ibvs_gym.render import ImageQuality, OmniRenderer, RoomScene
+from radial_ibvs_gym.vision import ImageQuality, OmniRenderer, RoomScene
+from radial_ibvs_gym.vision.pipeline import room_scene
 
 __all__ = ["ParkingImageEnv"]
 

@@ -9,12 +9,12 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from radial_ibvs_gym.envs.detected import room_scene
 from radial_ibvs_gym.geometry import world_to_camera
-from radial_ibvs_gym.render import ImageQuality, OmniRenderer
-from radial_ibvs_gym.render.detect import Measurement, measure
-from radial_ibvs_gym.render.track import assign
 from radial_ibvs_gym.scenarios import load_scenario
+from radial_ibvs_gym.vision import ImageQuality, OmniRenderer
+from radial_ibvs_gym.vision.detect import Measurement, measure
+from radial_ibvs_gym.vision.pipeline import room_scene
+from radial_ibvs_gym.vision.track import assign
 
 __all__ = ["MeasuredImage", "detection_accuracy", "measured_image", "plot_measured"]
 
@@ -31,7 +31,7 @@ class MeasuredImage:
     image
         ``(S, S)`` uint8 image.
     measurement
-        What :func:`~radial_ibvs_gym.render.detect.measure` found.
+        What :func:`~radial_ibvs_gym.vision.detect.measure` found.
     expected
         ``(K, 2)`` forward projections of the visible beacon centres, image pixels.
     principal_point
@@ -190,9 +190,9 @@ def plot_measured(path: Path | str, scenario: str = "paper-lab", seed: int = 0) 
     pathlib.Path
         The written file.
     """
-    from radial_ibvs_gym.experiments.figures import _pyplot, _save
+    from agents.plotting import pyplot, save_figure
 
-    plt = _pyplot()
+    plt = pyplot()
     clean = measured_image(scenario, seed)
     degraded = measured_image(scenario, seed, quality=DEGRADED)
     fig, axes = plt.subplots(1, 2, figsize=(9.5, 5.2))
@@ -200,6 +200,4 @@ def plot_measured(path: Path | str, scenario: str = "paper-lab", seed: int = 0) 
     _draw(axes[1], degraded, "noise 6 grey levels, blur 0.8 px, exposure 0.7")
     axes[0].legend(loc="lower left", fontsize=7, framealpha=0.8)
     fig.tight_layout()
-    out = _save(fig, path)
-    plt.close(fig)
-    return out
+    return save_figure(fig, path)

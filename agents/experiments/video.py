@@ -9,13 +9,11 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-import gymnasium as gym
 import numpy as np
 
-import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from agents import make_policy
-from radial_ibvs_gym.experiments.evaluate import env_kwargs_for
-from radial_ibvs_gym.experiments.reproduce import write_atomic
+from agents.io import write_atomic
+from agents.runner import make_env, run_episode
 
 __all__ = ["render_episode"]
 
@@ -65,19 +63,15 @@ def render_episode(
     if fps <= 0 or max_steps <= 0:
         raise ValueError(f"fps and max_steps must be positive, got {fps!r}, {max_steps!r}")
     policy = make_policy(policy_name)
-    kwargs = env_kwargs_for(policy, scenario, env_kwargs or {})
-    if task is not None:
-        kwargs["task"] = task
-    env = gym.make("RadialIBVS/Parking-v0", render_mode="rgb_array", **kwargs)
-    obs, info = env.reset(seed=seed)
-    frames = [np.asarray(env.render())]
-    for _ in range(max_steps):
-        action, _ = policy.predict(obs)
-        obs, _, terminated, truncated, info = env.step(action)
-        frames.append(np.asarray(env.render()))
-        if terminated or truncated:
-            break
-    env.close()
+    overrides = {**(env_kwargs or {}), **({"task": task} if task is not None else {})}
+    env = make_env(policy, scenario, overrides, render_mode="rgb_array")
+    try:
+        log = run_episode(
+            policy, env, seed=seed, policy_name=policy_name, max_steps=max_steps, record_frames=True
+        )
+    finally:
+        env.close()
+    frames, info = log.frames, log.info
     frames.extend([frames[-1]] * fps)  # hold the last frame for a second
     data = _gif(frames, fps) if suffix == ".gif" else _mp4(frames, fps)
     return write_atomic(out, data), info

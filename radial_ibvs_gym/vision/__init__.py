@@ -7,7 +7,7 @@ the same process (measured: PPO's ``predict`` 10.8 ms with the default threads, 
 
 import cv2
 
-from radial_ibvs_gym.render.omni import ImageQuality, OmniRenderer, RoomScene
+from radial_ibvs_gym.vision.omni import ImageQuality, OmniRenderer, RoomScene
 
 cv2.setNumThreads(1)
 

@@ -30,17 +30,16 @@ from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-import gymnasium as gym
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
+from agents.experiments.benchmark_plots import draw_convergence_map, starts_in_goal_frame
 from agents.ibvs import IBVSPolicy
-from agents.rollout import EpisodeLog, run_episode
+from agents.runner import EpisodeLog, make_env, run_episode
 from agents.zoo import TrainConfig
 from radial_ibvs_gym._validation import as_float_array
 from radial_ibvs_gym.camera import radial_points
-from radial_ibvs_gym.experiments.benchmark_plots import draw_convergence_map, starts_in_goal_frame
 from radial_ibvs_gym.geometry import relative_pose, world_to_camera
 
 if TYPE_CHECKING:
@@ -229,13 +228,10 @@ def run_task(
     EpisodeLog
         The episode; ``extra["goal_depths"]`` holds the goal depths ``d*`` given to the
         policy (metres, scaled) when the env reports them, as
-        :func:`~radial_ibvs_gym.experiments.figures.servoing_signals` needs.
+        :func:`~agents.experiments.figures.servoing_signals` needs.
     """
-    kwargs = {**getattr(policy, "env_kwargs", {}), "scenario": scenario, "physics": physics}
-    if task is not None:
-        kwargs["task"] = task
-    kwargs.update(env_kwargs)
-    env = gym.make(env_id, **kwargs)
+    overrides = {"physics": physics, **({"task": task} if task is not None else {})}
+    env = make_env(policy, scenario, {**overrides, **env_kwargs}, env_id=env_id)
     try:
         log = run_episode(
             policy,
@@ -470,7 +466,7 @@ def draw_servoing(axes: Any, log: EpisodeLog, lam: float = 0.5) -> dict[str, NDA
     """Draw the paper's Fig. 6-8 for one IBVS episode on a 2 x 3 grid of axes.
 
     Top: image point errors (pixels, if the log has them, as
-    :func:`~radial_ibvs_gym.experiments.reproduce.reproduce` records), feature errors
+    :func:`~agents.experiments.reproduce.reproduce` records), feature errors
     ``c*_ij - c_ij`` (Fig. 6), the ``alpha_m`` error (Fig. 8). Bottom: the IBVS camera
     velocity and the robot command (Fig. 7), and the path.
 
@@ -486,9 +482,9 @@ def draw_servoing(axes: Any, log: EpisodeLog, lam: float = 0.5) -> dict[str, NDA
     Returns
     -------
     dict
-        The signals (:func:`~radial_ibvs_gym.experiments.figures.servoing_signals`).
+        The signals (:func:`~agents.experiments.figures.servoing_signals`).
     """
-    from radial_ibvs_gym.experiments.figures import servoing_signals
+    from agents.experiments.figures import servoing_signals
 
     s = servoing_signals(log, lam)
     k = np.arange(len(log.poses))

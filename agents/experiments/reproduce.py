@@ -8,11 +8,6 @@ depths scaled by 1.3, on each physics backend. Success here is the paper's accur
 
 from __future__ import annotations
 
-import csv
-import io
-import json
-import os
-import tempfile
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -22,9 +17,10 @@ import gymnasium as gym
 import numpy as np
 from tqdm import tqdm  # text bars: no ipywidgets needed in Jupyter
 
-import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from agents import make_policy
-from agents.rollout import EpisodeLog, run_episode
+from agents.io import json_safe, write_csv
+from agents.io import write_json as write_json_file
+from agents.runner import EpisodeLog, make_env, run_episode
 
 __all__ = [
     "CASES",
@@ -33,7 +29,6 @@ __all__ = [
     "Case",
     "reproduce",
     "summary_table",
-    "write_atomic",
     "write_json",
     "write_trajectories_csv",
 ]
@@ -133,18 +128,15 @@ def reproduce(
     logs = []
     for backend, task, case in tqdm(runs, desc="reproduce", disable=not progress, unit="ep"):
         policy = make_policy(case.policy, lam=lam)
-        kwargs: dict[str, Any] = {
-            "scenario": scenario,
+        overrides: dict[str, Any] = {
             "task": task,
             "physics": backend,
             "control_dt": control_dt,
-            "max_episode_steps": max_steps,
             "depth_scale": case.depth_scale,
             **dict(case.overrides),
             **SUCCESS,
-            **policy.env_kwargs,
         }
-        env = gym.make("RadialIBVS/Parking-v0", **kwargs)
+        env = make_env(policy, scenario, overrides, max_episode_steps=max_steps)
         log = run_episode(policy, env, seed=0, policy_name=case.label)
         log.extra.update(_pixels(env, log))
         log.extra["depth_scale"] = case.depth_scale
@@ -195,46 +187,16 @@ def summary_table(logs: Sequence[EpisodeLog]) -> str:
     return "\n".join(lines) + "\n"
 
 
-def write_atomic(path: Path | str, text: str | bytes) -> Path:
-    """Write a file all at once: to a temporary file beside it, then rename (nothing half-way)."""
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    data = text.encode() if isinstance(text, str) else text
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as handle:
-            handle.write(data)
-        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; give the usual permissions
-        os.replace(tmp, path)
-    except BaseException:
-        Path(tmp).unlink(missing_ok=True)
-        raise
-    return path
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
-
-
 def write_trajectories_csv(logs: Sequence[EpisodeLog], path: Path | str) -> Path:
     """``trajectories.csv``: columns ``policy, task, physics, t, x, y, yaw`` (s, m, rad)."""
-    buffer = io.StringIO()
-    writer = csv.writer(buffer, lineterminator="\n")
-    writer.writerow(["policy", "task", "physics", "t", "x", "y", "yaw"])
-    for log in logs:
-        for t, (x, y, yaw) in zip(log.times, log.poses, strict=True):
-            writer.writerow([log.policy, log.task, log.physics, f"{t:.3f}", x, y, yaw])
-    return write_atomic(path, buffer.getvalue())
+    rows = [
+        [log.policy, log.task, log.physics, f"{t:.3f}", x, y, yaw]
+        for log in logs
+        for t, (x, y, yaw) in zip(log.times, log.poses, strict=True)
+    ]
+    return write_csv(path, rows, ["policy", "task", "physics", "t", "x", "y", "yaw"])
 
 
 def write_json(logs: Sequence[EpisodeLog], path: Path | str) -> Path:
-    """Write the ``--json`` rows of CONTRACTS: a list with one object per episode."""
-    rows = []
-    for log in logs:
-        row = log.row()
-        rows.append(
-            {k: v for k, v in row.items() if v is None or isinstance(v, str | int | float | bool)}
-        )
-    return write_atomic(path, json.dumps(rows, indent=1) + "\n")
+    """Write the ``--json`` rows: one object per episode (:meth:`EpisodeLog.row`)."""
+    return write_json_file(path, [json_safe(log.row()) for log in logs])

@@ -2,35 +2,20 @@
 
 from __future__ import annotations
 
-import io
 from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
 
 import numpy as np
 
 from agents import IBVSPolicy
-from agents.rollout import EpisodeLog
+from agents.plotting import pyplot, save_figure
+from agents.runner import EpisodeLog
 from radial_ibvs_gym.features import alpha_m, c_ij, virtual_point_weights
 from radial_ibvs_gym.geometry import wrap_angle
 
 __all__ = ["plot_paths", "plot_servoing", "servoing_signals"]
 
 _STYLE = {"ibvs": ("C0", "-"), "oracle": ("k", "--"), "ibvs-d1.3": ("C3", "-.")}
-
-
-def _pyplot() -> Any:
-    import matplotlib.pyplot as plt  # no backend forced: Agg when headless, inline in Jupyter
-
-    return plt
-
-
-def _save(fig: Any, path: Path | str) -> Path:
-    from radial_ibvs_gym.experiments.reproduce import write_atomic
-
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format=Path(path).suffix.lstrip(".") or "png", dpi=110)
-    return write_atomic(path, buffer.getvalue())
 
 
 def plot_paths(
@@ -49,7 +34,7 @@ def plot_paths(
     title
         Figure title.
     """
-    plt = _pyplot()
+    plt = pyplot()
     tasks = sorted({log.task for log in logs if log.task is not None})
     fig, axes = plt.subplots(1, len(tasks), figsize=(3.6 * len(tasks), 3.8), squeeze=False)
     for ax, task in zip(axes[0], tasks, strict=True):
@@ -70,9 +55,7 @@ def plot_paths(
     axes[0, 0].legend(loc="upper left", fontsize=8)
     fig.suptitle(title)
     fig.tight_layout()
-    out = _save(fig, path)
-    plt.close(fig)
-    return out
+    return save_figure(fig, path)
 
 
 def _goal_yaw(logs: Sequence[EpisodeLog], task: int) -> float:
@@ -144,7 +127,7 @@ def servoing_signals(log: EpisodeLog, lam: float = 0.5) -> dict[str, np.ndarray]
 
 def plot_servoing(log: EpisodeLog, path: Path | str, lam: float = 0.5) -> Path:
     """Fig. 6-8 for one episode: image, feature and ``alpha_m`` errors; camera and robot speeds."""
-    plt = _pyplot()
+    plt = pyplot()
     s = servoing_signals(log, lam)
     k = np.arange(len(log.poses))
     fig, axes = plt.subplots(2, 3, figsize=(14, 7))
@@ -175,6 +158,4 @@ def plot_servoing(log: EpisodeLog, path: Path | str, lam: float = 0.5) -> Path:
     yaw = round(float(np.degrees(log.info["goal_pose"][2]))) % 360
     fig.suptitle(f"{log.policy}, {log.scenario}, goal yaw {yaw} deg, {log.physics}")
     fig.tight_layout()
-    out = _save(fig, path)
-    plt.close(fig)
-    return out
+    return save_figure(fig, path)

@@ -18,9 +18,9 @@ from numpy.typing import NDArray
 
 from radial_ibvs_gym.camera import CatadioptricCamera, normalise_pixels
 from radial_ibvs_gym.geometry import world_to_camera
-from radial_ibvs_gym.render import ImageQuality, OmniRenderer, RoomScene
-from radial_ibvs_gym.render.detect import BorderFit, Measurement, fit_mirror_border, measure
-from radial_ibvs_gym.render.track import BeaconTracker
+from radial_ibvs_gym.vision import ImageQuality, OmniRenderer, RoomScene
+from radial_ibvs_gym.vision.detect import BorderFit, Measurement, fit_mirror_border, measure
+from radial_ibvs_gym.vision.track import BeaconTracker
 
 __all__ = ["DetectedPoints", "room_scene"]
 

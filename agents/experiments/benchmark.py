@@ -9,27 +9,21 @@ effort, smoothness, collisions and compute time per step.
 
 from __future__ import annotations
 
-import csv
-import io
-import json
 import math
 import multiprocessing
 from collections.abc import Sequence
 from concurrent.futures import ProcessPoolExecutor, as_completed
-from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import gymnasium as gym
 import numpy as np
 from tqdm import tqdm  # text bars: no ipywidgets needed in Jupyter
 
-import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from agents import make_policy
-from agents.rollout import run_episode
-from radial_ibvs_gym.experiments.evaluate import summarise
-from radial_ibvs_gym.experiments.reproduce import write_atomic
-from radial_ibvs_gym.experiments.suites import Variant, suite_variants
+from agents.experiments.evaluate import summarise
+from agents.experiments.jobs import CHUNK, Job, JobResult, init_worker, run_job
+from agents.experiments.suites import suite_variants
+from agents.io import write_atomic, write_csv, write_json
 
 __all__ = [
     "Job",
@@ -40,68 +34,6 @@ __all__ = [
     "summary_rows",
     "write_outputs",
 ]
-
-
-@dataclass(frozen=True)
-class Job:
-    """One policy on one suite variant: episodes (seeds) ``first`` to ``first + episodes - 1``."""
-
-    policy: str
-    variant: Variant
-    episodes: int
-    first: int = 0
-
-
-#: episodes per job: long variants are split so that the workers share them
-CHUNK = 20
-
-
-@dataclass
-class JobResult:
-    """Rows of a job, the paths of its first episodes, or why it was skipped."""
-
-    job: Job
-    rows: list[dict[str, Any]]
-    paths: list[tuple[int | None, np.ndarray]]
-    skipped: str | None = None
-
-
-def _init_worker() -> None:
-    """One torch thread per worker process: the workers already share the cores."""
-    import torch
-
-    torch.set_num_threads(1)
-
-
-def _run_job(job: Job) -> JobResult:
-    """Run a job (in a worker process)."""
-    policy = make_policy(job.policy)
-    kwargs = {**policy.env_kwargs, **job.variant.overrides, "scenario": job.variant.scenario}
-    kwargs.pop("task", None)  # the suite chooses the task per episode
-    env = gym.make("RadialIBVS/Parking-v0", **kwargs)
-    if hasattr(policy, "check_observation_space"):
-        try:
-            policy.check_observation_space(env.observation_space)
-        except ValueError as error:
-            return JobResult(job, [], [], skipped=str(error))
-    base: Any = env.unwrapped
-    n_tasks = base.scenario.n_tasks
-    rows, paths = [], []
-    for k in range(job.first, job.first + job.episodes):
-        options = {"task": k % n_tasks} if job.variant.cycle_tasks else None
-        log = run_episode(policy, env, seed=k, options=options, policy_name=job.policy)
-        row = log.row()
-        row.update(
-            suite=job.variant.suite,
-            variant=job.variant.label,
-            start_pose=[float(v) for v in log.poses[0]],
-            goal_pose=[float(v) for v in log.info["goal_pose"]],
-        )
-        rows.append(row)
-        if k < n_tasks or (not job.variant.cycle_tasks and k < 8):
-            paths.append((log.task, log.poses[:, :2]))
-    env.close()
-    return JobResult(job, rows, paths)
 
 
 def run_benchmark(
@@ -118,7 +50,7 @@ def run_benchmark(
     policies
         Policy names (:func:`agents.make_policy`: analytic ones, shipped models, directories).
     suites
-        Suite names (:data:`radial_ibvs_gym.experiments.suites.SUITES`).
+        Suite names (:data:`agents.experiments.suites.SUITES`).
     episodes
         Episodes per variant (default: the variant's own, 200 for ``random`` and 8 otherwise).
     workers
@@ -150,13 +82,13 @@ def run_benchmark(
     results: list[JobResult | None] = [None] * len(jobs)
     if workers == 1:
         for i, job in enumerate(jobs):
-            results[i] = _run_job(job)
+            results[i] = run_job(job)
             bar.update(job.episodes)
     else:
         # spawn, not fork: torch (loaded here to check the models) hangs in forked children
         context = multiprocessing.get_context("spawn")
-        with ProcessPoolExecutor(workers, mp_context=context, initializer=_init_worker) as pool:
-            futures = {pool.submit(_run_job, job): i for i, job in enumerate(jobs)}
+        with ProcessPoolExecutor(workers, mp_context=context, initializer=init_worker) as pool:
+            futures = {pool.submit(run_job, job): i for i, job in enumerate(jobs)}
             for future in as_completed(futures):
                 results[futures[future]] = future.result()
                 bar.update(jobs[futures[future]].episodes)
@@ -277,10 +209,6 @@ def write_outputs(results: Sequence[JobResult], out_dir: Path | str) -> list[Pat
     out = Path(out_dir)
     rows = [row for result in results for row in result.rows]
     summaries = summary_rows(results)
-    buffer = io.StringIO()
-    writer = csv.DictWriter(buffer, _CSV_COLUMNS, extrasaction="ignore", lineterminator="\n")
-    writer.writeheader()
-    writer.writerows(rows)
     skipped = [
         f"- {r.job.policy} on {r.job.variant.suite}/{r.job.variant.label}: {r.skipped}"
         for r in results
@@ -290,11 +218,11 @@ def write_outputs(results: Sequence[JobResult], out_dir: Path | str) -> list[Pat
     if skipped:
         table += "\nSkipped:\n" + "\n".join(skipped) + "\n"
     written = [
-        write_atomic(out / "episodes.csv", buffer.getvalue()),
-        write_atomic(out / "episodes.json", json.dumps(rows, indent=1) + "\n"),
+        write_csv(out / "episodes.csv", rows, _CSV_COLUMNS),
+        write_json(out / "episodes.json", rows),
         write_atomic(out / "summary.md", table),
     ]
-    from radial_ibvs_gym.experiments.benchmark_plots import (
+    from agents.experiments.benchmark_plots import (
         plot_convergence_map,
         plot_success,
         plot_trajectories,

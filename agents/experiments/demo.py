@@ -9,14 +9,21 @@ scene from above.
 
 from __future__ import annotations
 
+import io
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 import numpy as np
 
+from agents.io import write_atomic
+from agents.plotting import save_figure
 from radial_ibvs_gym import paper
-from radial_ibvs_gym.camera import CatadioptricCamera, paper_camera
-from radial_ibvs_gym.experiments.teaching import invariance_errors, mirror_circle_pixels
+from radial_ibvs_gym.camera import (
+    CatadioptricCamera,
+    invariance_errors,
+    mirror_circle_pixels,
+    paper_camera,
+)
 from radial_ibvs_gym.geometry import world_to_camera
 
 if TYPE_CHECKING:
@@ -110,10 +117,7 @@ def run_demo(out: Path | str, task: int = 1, non_central_offset: float = 0.01) -
     _draw_scene(axes[1, 1], poses, colors)
     fig.suptitle("radial_ibvs_gym demo: the paper's mirrors A and B (non-central)")
     fig.tight_layout()
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out, dpi=90)
-    plt.close(fig)
-    return out
+    return save_figure(fig, out, dpi=90)
 
 
 def _draw_mirrors(ax: Axes, cameras: dict[str, CatadioptricCamera], pose: np.ndarray) -> None:
@@ -191,36 +195,25 @@ def run_episode_demo(out: Path | str, task: int = 1, seed: int = 0) -> Path:
     pathlib.Path
         The path written.
     """
-    import gymnasium as gym
-    import matplotlib.pyplot as plt
+    from PIL import Image
 
-    import radial_ibvs_gym  # noqa: F401  (registers the environments)
     from agents import IBVSPolicy
+    from agents.runner import make_env, run_episode
 
     policy = IBVSPolicy()
-    env = gym.make(
-        "RadialIBVS/Parking-v0",
-        scenario="paper-sim",
-        task=task,
-        render_mode="rgb_array",
-        **policy.env_kwargs,
-    )
-    obs, info = env.reset(seed=seed)
-    steps, done = 0, False
-    while not done and steps < 600:
-        action, _ = policy.predict(obs)
-        obs, _, terminated, truncated, info = env.step(action)
-        steps += 1
-        done = terminated or truncated
-    frame = np.asarray(env.render())
-    env.close()
+    env = make_env(policy, "paper-sim", {"task": task}, render_mode="rgb_array")
+    try:
+        log = run_episode(policy, env, seed=seed, policy_name="ibvs")
+        frame = np.asarray(env.render())
+    finally:
+        env.close()
+    info, steps = log.info, log.steps
     outcome = "parked" if info["is_success"] else "did not park"
     print(
         f"the paper's IBVS, paper-sim task {task}: {outcome} in {0.1 * steps:.1f} s, position "
         f"error {100 * info['position_error_m']:.1f} cm, heading error "
         f"{info['heading_error_deg']:.2f} deg, {info['n_visible']}/8 points visible"
     )
-    out = Path(out)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    plt.imsave(out, frame)
-    return out
+    buffer = io.BytesIO()
+    Image.fromarray(frame).save(buffer, format="PNG")
+    return write_atomic(out, buffer.getvalue())

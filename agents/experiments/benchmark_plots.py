@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import io
 import math
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -11,11 +10,11 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 from numpy.typing import NDArray
 
-from radial_ibvs_gym.experiments.reproduce import write_atomic
+from agents.plotting import pyplot, save_figure
 from radial_ibvs_gym.geometry import relative_pose
 
 if TYPE_CHECKING:
-    from radial_ibvs_gym.experiments.benchmark import JobResult
+    from agents.experiments.jobs import JobResult
 
 __all__ = [
     "draw_convergence_map",
@@ -26,19 +25,6 @@ __all__ = [
 ]
 
 
-def _pyplot() -> Any:
-    import matplotlib.pyplot as plt  # no backend forced: Agg when headless, inline in Jupyter
-
-    return plt
-
-
-def _save(fig: Any, path: Path) -> Path:
-    buffer = io.BytesIO()
-    fig.savefig(buffer, format="png", dpi=110)
-    _pyplot().close(fig)
-    return write_atomic(path, buffer.getvalue())
-
-
 def plot_success(summaries: Sequence[dict[str, Any]], path: Path) -> Path:
     """Draw a heat map: the success rate (and its 95 % interval) of each policy per variant.
 
@@ -46,7 +32,7 @@ def plot_success(summaries: Sequence[dict[str, Any]], path: Path) -> Path:
     below it, its 95 % Wilson interval. Missing cells (a model that does not fit a variant's
     observations) are blank.
     """
-    plt = _pyplot()
+    plt = pyplot()
     policies = list(dict.fromkeys(s["policy"] for s in summaries))
     groups = list(dict.fromkeys((s["suite"], s["variant"]) for s in summaries))
     index = {(s["suite"], s["variant"], s["policy"]): s for s in summaries}
@@ -89,12 +75,12 @@ def plot_success(summaries: Sequence[dict[str, Any]], path: Path) -> Path:
     ax.set_yticklabels([f"{suite}: {variant}" for suite, variant in groups], fontsize=8)
     ax.set_title("success rate per suite variant (small: 95% interval)", fontsize=9)
     fig.tight_layout()
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def plot_convergence_map(rows: Sequence[dict[str, Any]], path: Path) -> Path:
     """Start positions of the ``random`` suite in the goal's frame, by outcome, one panel each."""
-    plt = _pyplot()
+    plt = pyplot()
     rows = [r for r in rows if r["suite"] == "random"]
     policies = list(dict.fromkeys(r["policy"] for r in rows))
     fig, axes = plt.subplots(1, len(policies), figsize=(3.6 * len(policies), 3.8), squeeze=False)
@@ -105,7 +91,7 @@ def plot_convergence_map(rows: Sequence[dict[str, Any]], path: Path) -> Path:
     axes[0, 0].legend(fontsize=7, loc="lower left")
     fig.suptitle("domain of convergence (random rooms; the goal at the origin, heading +x)")
     fig.tight_layout()
-    return _save(fig, path)
+    return save_figure(fig, path)
 
 
 def starts_in_goal_frame(
@@ -116,7 +102,7 @@ def starts_in_goal_frame(
     Parameters
     ----------
     rows
-        Benchmark rows (:func:`~radial_ibvs_gym.experiments.benchmark.run_benchmark`) with
+        Benchmark rows (:func:`~agents.experiments.benchmark.run_benchmark`) with
         ``start_pose``, ``goal_pose`` (``(x, y, yaw)``, metres and radians) and ``success``.
 
     Returns
@@ -171,7 +157,7 @@ def draw_convergence_map(ax: Any, rows: Sequence[Mapping[str, Any]], title: str 
 
 def plot_trajectories(results: Sequence[JobResult], path: Path) -> Path:
     """Paths of every policy on the paper's four tasks (exact depths), side by side."""
-    plt = _pyplot()
+    plt = pyplot()
     mine = [r for r in results if r.job.variant.label == "d*"]
     tasks = sorted({task for r in mine for task, _ in r.paths if task is not None})
     fig, axes = plt.subplots(1, len(tasks), figsize=(3.6 * len(tasks), 3.8), squeeze=False)
@@ -190,4 +176,4 @@ def plot_trajectories(results: Sequence[JobResult], path: Path) -> Path:
         ax.grid(alpha=0.3)
     axes[0, 0].legend(fontsize=7)
     fig.tight_layout()
-    return _save(fig, path)
+    return save_figure(fig, path)

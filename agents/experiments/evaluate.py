@@ -6,16 +6,14 @@ import math
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-import gymnasium as gym
 import numpy as np
 import yaml
 from tqdm import tqdm  # text bars: no ipywidgets needed in Jupyter
 
-import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from agents import make_policy
-from agents.rollout import EpisodeLog, run_episode
+from agents.runner import DEFAULT_ENV_ID, EpisodeLog, make_env, run_episode
 
-__all__ = ["env_kwargs_for", "evaluate", "parse_env_kwargs", "summarise", "wilson_interval"]
+__all__ = ["evaluate", "parse_env_kwargs", "summarise", "wilson_interval"]
 
 
 def parse_env_kwargs(pairs: Sequence[str]) -> dict[str, Any]:
@@ -38,11 +36,6 @@ def parse_env_kwargs(pairs: Sequence[str]) -> dict[str, Any]:
     return out
 
 
-def env_kwargs_for(policy: Any, scenario: str, overrides: Mapping[str, Any]) -> dict[str, Any]:
-    """Merge the ``gym.make`` arguments: the policy's needs, the scenario, the overrides."""
-    return {**policy.env_kwargs, "scenario": scenario, **overrides}
-
-
 def evaluate(
     policy_name: str,
     scenario: str = "paper-sim",
@@ -51,7 +44,7 @@ def evaluate(
     episodes: int = 10,
     seed: int = 0,
     env_kwargs: Mapping[str, Any] | None = None,
-    env_id: str = "RadialIBVS/Parking-v0",
+    env_id: str = DEFAULT_ENV_ID,
     suite: str | None = None,
     progress: bool = True,
 ) -> list[EpisodeLog]:
@@ -66,12 +59,8 @@ def evaluate(
     if episodes <= 0:
         raise ValueError(f"episodes must be positive, got {episodes!r}")
     policy = make_policy(policy_name)
-    kwargs = env_kwargs_for(policy, scenario, env_kwargs or {})
-    if task is not None:
-        kwargs["task"] = task
-    env = gym.make(env_id, **kwargs)
-    if hasattr(policy, "check_observation_space"):
-        policy.check_observation_space(env.observation_space)
+    overrides = {**(env_kwargs or {}), **({"task": task} if task is not None else {})}
+    env = make_env(policy, scenario, overrides, env_id=env_id)
     logs = []
     for k in tqdm(range(episodes), desc=policy_name, disable=not progress, unit="ep"):
         log = run_episode(policy, env, seed=seed + k, policy_name=policy_name)

@@ -1,14 +1,22 @@
-"""Run a policy for one episode and keep what the tables and figures need.
+"""The one episode runner: make the env a policy needs, run it, keep what tables need.
 
-One code path for ``reproduce``, ``evaluate`` and the benchmark: :func:`run_episode` steps a
-policy (anything with SB3's ``predict``) in an env and returns an :class:`EpisodeLog` with the
-trajectory, the observations and the metrics of ``../docs`` CONTRACTS' JSON rows.
+Every command and notebook goes through here (``evaluate``, ``benchmark``, ``reproduce``,
+``render``, ``demo``, the notebooks' helpers), so they all build the env the same way:
+
+- :func:`env_kwargs_for` merges the ``gym.make`` keywords in one order: the policy's
+  ``env_kwargs`` (what its observation needs, and for a learned model the settings it was
+  trained with), then the scenario, then the caller's overrides, which win;
+- :func:`make_env` makes the env and checks that a learned model's observation space fits;
+- :func:`run_episode` steps a policy (anything with SB3's ``predict``) in the env and returns
+  an :class:`EpisodeLog` with the trajectory, the observations, optionally the rendered
+  frames, and the metrics of the ``--json`` rows (:meth:`EpisodeLog.row`).
 """
 
 from __future__ import annotations
 
 import math
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -16,7 +24,72 @@ import gymnasium as gym
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["EpisodeLog", "run_episode"]
+__all__ = ["DEFAULT_ENV_ID", "EpisodeLog", "env_kwargs_for", "make_env", "run_episode"]
+
+#: the env every command runs unless told otherwise
+DEFAULT_ENV_ID = "RadialIBVS/Parking-v0"
+
+
+def env_kwargs_for(
+    policy: Any, scenario: str | None = None, overrides: Mapping[str, Any] | None = None
+) -> dict[str, Any]:
+    """Merge the ``gym.make`` keywords for a policy, in the one order every command uses.
+
+    Parameters
+    ----------
+    policy
+        A policy with an ``env_kwargs`` mapping (every policy of :mod:`agents`; none: ``{}``).
+    scenario
+        Scenario name or YAML path; ``None`` keeps the policy's (or the env's default).
+    overrides
+        The caller's ``gym.make`` keywords; they win over the policy's.
+
+    Returns
+    -------
+    dict
+        ``{**policy.env_kwargs, "scenario": scenario, **overrides}``.
+    """
+    kwargs: dict[str, Any] = dict(getattr(policy, "env_kwargs", {}))
+    if scenario is not None:
+        kwargs["scenario"] = scenario
+    kwargs.update(overrides or {})
+    return kwargs
+
+
+def make_env(
+    policy: Any,
+    scenario: str | None = None,
+    overrides: Mapping[str, Any] | None = None,
+    *,
+    env_id: str = DEFAULT_ENV_ID,
+    **make_kwargs: Any,
+) -> gym.Env:
+    """Make the env ``policy`` needs (:func:`env_kwargs_for`) and check that the policy fits it.
+
+    Parameters
+    ----------
+    policy, scenario, overrides
+        As :func:`env_kwargs_for`.
+    env_id
+        The Gymnasium id.
+    **make_kwargs
+        ``gym.make`` keywords that are not env settings (``render_mode``,
+        ``max_episode_steps``).
+
+    Raises
+    ------
+    ValueError
+        For a bad keyword, or a learned model whose observation space differs from the env's
+        (the env is closed first).
+    """
+    env = gym.make(env_id, **make_kwargs, **env_kwargs_for(policy, scenario, overrides))
+    if hasattr(policy, "check_observation_space"):
+        try:
+            policy.check_observation_space(env.observation_space)
+        except ValueError:
+            env.close()
+            raise
+    return env
 
 
 @dataclass
@@ -44,6 +117,9 @@ class EpisodeLog:
         The last ``info``.
     compute_s
         Seconds spent in ``predict`` over the episode.
+    frames
+        ``(T + 1)`` rendered ``(H, W, 3)`` uint8 frames, when :func:`run_episode` was asked to
+        record them; empty otherwise.
     extra
         Anything a caller adds (e.g. the suite).
     """
@@ -62,6 +138,7 @@ class EpisodeLog:
     info: dict[str, Any]
     compute_s: float
     extra: dict[str, Any] = field(default_factory=dict)
+    frames: list[NDArray[np.uint8]] = field(default_factory=list, repr=False)
 
     @property
     def steps(self) -> int:
@@ -98,7 +175,7 @@ class EpisodeLog:
         return bool(self.info.get("is_success", False))
 
     def row(self) -> dict[str, Any]:
-        """Return the episode as a JSON row (keys of CONTRACTS' ``--json`` rows, plus ``extra``)."""
+        """Return the episode as a ``--json`` row (README, "JSON rows"), plus ``extra``."""
         steps = max(self.steps, 1)
         return {
             "policy": self.policy,
@@ -129,6 +206,7 @@ def run_episode(
     options: dict[str, Any] | None = None,
     policy_name: str | None = None,
     max_steps: int | None = None,
+    record_frames: bool = False,
 ) -> EpisodeLog:
     """Run ``policy`` in ``env`` for one episode (until termination or truncation).
 
@@ -149,13 +227,21 @@ def run_episode(
         A further cap on the number of steps, below the env's own truncation (``None``: only
         the env's; to run longer than the registration's 600 steps, pass
         ``max_episode_steps`` to ``gym.make``).
+    record_frames
+        Keep ``env.render()`` after the reset and after every step in ``EpisodeLog.frames``
+        (the env must be made with ``render_mode="rgb_array"``).
 
     Returns
     -------
     EpisodeLog
         The trajectory and metrics.
     """
+    if record_frames and env.render_mode != "rgb_array":
+        raise ValueError(
+            f"record_frames needs an env made with render_mode='rgb_array', got {env.render_mode!r}"
+        )
     obs, info = env.reset(seed=seed, options=options)
+    frames = [np.asarray(env.render())] if record_frames else []
     base = env.unwrapped
     poses, points, visible = [info["robot_pose"]], [obs["points"]], [obs["visible"]]
     actions: list[np.ndarray] = []
@@ -171,6 +257,8 @@ def run_episode(
         actions.append(np.asarray(action, dtype=np.float64))
         points.append(obs["points"])
         visible.append(obs["visible"])
+        if record_frames:
+            frames.append(np.asarray(env.render()))
         if terminated or truncated:
             break
     n = len(obs["visible"])
@@ -188,4 +276,5 @@ def run_episode(
         goal_points=np.asarray(obs["goal_points"], dtype=np.float64).reshape(n, 2),
         info=info,
         compute_s=compute,
+        frames=frames,
     )

@@ -1,0 +1,59 @@
+"""The ``radial-ibvs`` command line: a short dispatcher, one module per command.
+
+Each command module (:mod:`.demo`, :mod:`.reproduce`, :mod:`.evaluate`, :mod:`.train`,
+:mod:`.benchmark`, :mod:`.render`, :mod:`.image`) has ``add_parser(sub)`` and ``run(args)``;
+its heavy imports happen inside ``run``, so ``radial-ibvs --help`` is instant.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+
+from agents.cli import benchmark, demo, evaluate, image, render, reproduce, train
+
+__all__ = ["COMMANDS", "build_parser", "main"]
+
+#: the commands, in the order of ``--help``
+COMMANDS = {
+    "demo": demo,
+    "reproduce": reproduce,
+    "evaluate": evaluate,
+    "train": train,
+    "benchmark": benchmark,
+    "render": render,
+    "image": image,
+}
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """Return the argument parser of ``radial-ibvs`` (one sub-parser per command)."""
+    parser = argparse.ArgumentParser(
+        prog="radial-ibvs",
+        description=(
+            "Visual servoing of mobile robots with (non-)central catadioptric cameras "
+            "(Aliakbarpour, Tahri, Araujo, RAS 2014)."
+        ),
+    )
+    sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
+    for module in COMMANDS.values():
+        module.add_parser(sub)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run ``radial-ibvs``; returns the process exit code."""
+    argv = list(sys.argv[1:] if argv is None else argv)
+    args = build_parser().parse_args(argv)
+    args.argv = argv  # the command line, for the metadata of what it writes
+    try:
+        return int(COMMANDS[args.command].run(args))
+    except (ValueError, KeyError) as error:  # bad name, file or value: a message
+        message = error.args[0] if error.args else error
+        print(f"radial-ibvs {args.command}: error: {message}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,70 @@
+"""``radial-ibvs benchmark``: every policy on the same suites and seeds (tables, rows, plots)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(sub: Any) -> None:
+    """Add the ``benchmark`` sub-command to the sub-parsers ``sub``."""
+    parser = sub.add_parser(
+        "benchmark",
+        help="run every policy on the same suites and seeds; table, CSV, JSON rows, plots",
+        description=(
+            "Run the policies on the suites (paper: the four tasks with d* and 1.3 d*; random: "
+            "200 random rooms and start/goal pairs, the domain of convergence; noise: 0, 0.5, "
+            "1, 2 px; calibration: principal-point and focal-ratio errors; mirror-swap: the "
+            "goal image through mirror B; physics: pymunk vs kinematic; pixels: ideal points vs "
+            "points detected in rendered images, paper-sim and paper-lab). Prints a table and "
+            "writes episodes.csv, episodes.json, summary.md and plots into --out."
+        ),
+    )
+    parser.add_argument("--suites", nargs="+", help="default: all")
+    parser.add_argument(
+        "--policies", nargs="+", help="default: the analytic policies and every shipped model"
+    )
+    parser.add_argument("--episodes", type=int, help="per suite variant (default: 200 random, 8)")
+    parser.add_argument("--workers", type=int, default=2, help="processes (default: %(default)s)")
+    parser.add_argument("--out", type=Path, default=Path("outputs/benchmark"), help="folder")
+    parser.add_argument("--json", type=Path, help="also write the per-episode rows here")
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``radial-ibvs benchmark``; returns the exit code."""
+    from rich.console import Console
+
+    from agents import POLICY_NAMES
+    from agents.experiments.benchmark import (
+        rich_table,
+        run_benchmark,
+        summary_rows,
+        write_outputs,
+    )
+    from agents.experiments.suites import SUITES
+    from agents.io import write_json
+    from agents.learned import shipped_models
+
+    policies = args.policies or [*POLICY_NAMES, *shipped_models()]
+    results = run_benchmark(
+        policies,
+        args.suites or list(SUITES),
+        episodes=args.episodes,
+        workers=args.workers,
+        progress=not args.no_progress,
+    )
+    Console().print(rich_table(summary_rows(results)))
+    for result in results:
+        if result.skipped:
+            print(f"skipped {result.job.policy} on {result.job.variant.suite}: {result.skipped}")
+    written = write_outputs(results, args.out)
+    if args.json is not None:
+        rows = [row for result in results for row in result.rows]
+        written.append(write_json(args.json, rows))
+    for path in written:
+        print(f"saved {path}")
+    return 0

@@ -1,0 +1,69 @@
+"""``radial-ibvs evaluate``: one policy, N seeded episodes, Wilson intervals, JSON rows."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(sub: Any) -> None:
+    """Add the ``evaluate`` sub-command to the sub-parsers ``sub``."""
+    parser = sub.add_parser(
+        "evaluate",
+        help="run one policy for N seeded episodes; print a summary, write JSON rows",
+        description=(
+            "Run a policy (ibvs, ibvs-current, ibvs-mean, ibvs-no-frame-change, oracle, random, "
+            "a shipped model such as ppo-paper-sim, or a model directory) on a scenario for N "
+            "episodes seeded S, S+1, ...; print the success rate (95%% Wilson interval) and the "
+            "errors; --json writes one row per episode."
+        ),
+    )
+    parser.add_argument("--policy", required=True, help="policy name or model directory")
+    parser.add_argument("--scenario", default="paper-sim", help="default: %(default)s")
+    parser.add_argument("--task", type=int, help="task index (default: drawn per episode)")
+    parser.add_argument("--episodes", type=int, default=10, help="default: %(default)s")
+    parser.add_argument("--seed", type=int, default=0, help="first seed (default: %(default)s)")
+    parser.add_argument(
+        "--env-kwarg",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="gym.make argument (YAML value), e.g. physics=kinematic or depth_scale=1.3",
+    )
+    parser.add_argument("--json", type=Path, help="write the per-episode rows here")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``radial-ibvs evaluate``; returns the exit code."""
+    from agents.experiments import write_json
+    from agents.experiments.evaluate import evaluate, parse_env_kwargs, summarise
+
+    logs = evaluate(
+        args.policy,
+        args.scenario,
+        task=args.task,
+        episodes=args.episodes,
+        seed=args.seed,
+        env_kwargs=parse_env_kwargs(args.env_kwarg),
+    )
+    rows = [log.row() for log in logs]
+    summary = summarise(rows)
+    lo, hi = summary["success_ci95"]
+    print(f"{args.policy} on {args.scenario}: {summary['episodes']} episodes")
+    print(
+        f"  success {summary['success_rate']:.0%} (95% CI {lo:.0%}-{hi:.0%}), "
+        f"collisions {summary['collisions']}"
+    )
+    pos, head = summary["position_error_m_median"], summary["heading_error_deg_median"]
+    print(
+        f"  final position error median {100 * pos:.2f} cm "
+        f"(p95 {100 * summary['position_error_m_p95']:.2f}), heading error median "
+        f"{head:.2f} deg (p95 {summary['heading_error_deg_p95']:.2f})"
+    )
+    print(f"  compute {summary['compute_us_per_step']:.0f} us/step")
+    if args.json is not None:
+        print(f"saved {write_json(logs, args.json)}")
+    return 0

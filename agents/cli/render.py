@@ -1,0 +1,52 @@
+"""``radial-ibvs render``: a GIF or MP4 of a policy parking."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(sub: Any) -> None:
+    """Add the ``render`` sub-command to the sub-parsers ``sub``."""
+    parser = sub.add_parser(
+        "render",
+        help="save a video (GIF, or MP4 with ffmpeg) of a policy parking",
+        description="Run one episode of a policy with rgb_array rendering and save it.",
+    )
+    parser.add_argument("--policy", required=True, help="policy name or model directory")
+    parser.add_argument("--scenario", default="paper-sim", help="default: %(default)s")
+    parser.add_argument("--task", type=int, help="task index (default: drawn)")
+    parser.add_argument("--seed", type=int, default=0, help="default: %(default)s")
+    parser.add_argument("--out", type=Path, required=True, help="FILE.gif or FILE.mp4")
+    parser.add_argument("--fps", type=int, default=10, help="default: %(default)s")
+    parser.add_argument("--max-steps", type=int, default=600, help="default: %(default)s")
+    parser.add_argument(
+        "--env-kwarg", action="append", default=[], metavar="KEY=VALUE", help="gym.make argument"
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``radial-ibvs render``; returns the exit code."""
+    from agents.experiments.evaluate import parse_env_kwargs
+    from agents.experiments.video import render_episode
+
+    path, info = render_episode(
+        args.policy,
+        args.out,
+        args.scenario,
+        task=args.task,
+        seed=args.seed,
+        env_kwargs=parse_env_kwargs(args.env_kwarg),
+        fps=args.fps,
+        max_steps=args.max_steps,
+    )
+    outcome = "parked" if info.get("is_success") else "did not park"
+    print(
+        f"{args.policy} {outcome}: position error {100 * info['position_error_m']:.1f} cm, "
+        f"heading error {info['heading_error_deg']:.1f} deg"
+    )
+    print(f"saved {path}")
+    return 0
