@@ -3,8 +3,12 @@
 Every policy implements stable-baselines3's ``predict(observation, state=None,
 episode_start=None, deterministic=True) -> (action, state)`` and says, in ``env_kwargs``, what
 ``gym.make`` must add to the observation for it. :func:`make_policy` builds them by name;
-:func:`load` loads a trained model (shipped or from ``radial-ibvs train``).
+:func:`load` loads a trained model (shipped or from ``radial-ibvs train``);
+:func:`make_vec_env` makes a stable-baselines3 ``VecEnv`` backed by the native batched env
+(imported on first use: it loads stable-baselines3 and torch).
 """
+
+from typing import Any
 
 from agents.ibvs import VARIANTS, IBVSPolicy
 from agents.learned import LearnedPolicy, load, shipped_models
@@ -25,5 +29,15 @@ __all__ = [
     "ego_polar",
     "load",
     "make_policy",
+    "make_vec_env",
     "shipped_models",
 ]
+
+
+def __getattr__(name: str) -> Any:
+    """Import :func:`make_vec_env` on first use (it loads stable-baselines3 and torch)."""
+    if name == "make_vec_env":
+        from agents.vec_env import make_vec_env
+
+        return make_vec_env
+    raise AttributeError(f"module 'agents' has no attribute {name!r}")

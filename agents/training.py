@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 from stable_baselines3 import PPO, SAC
 from stable_baselines3.common.callbacks import BaseCallback, CheckpointCallback, EvalCallback
-from stable_baselines3.common.env_util import make_vec_env
+from stable_baselines3.common.env_util import make_vec_env as sb3_make_vec_env
 from stable_baselines3.common.logger import configure
 from stable_baselines3.common.vec_env import VecNormalize
 
@@ -90,6 +90,17 @@ def _jsonable(value: Any) -> Any:
     return repr(value)
 
 
+def _make_venv(env_id: str, n_envs: int, seed: int, env_kwargs: dict[str, Any]) -> Any:
+    """Make the native batched ``VecEnv`` where the id has one, else SB3's ``DummyVecEnv``."""
+    from agents.vec_env import make_vec_env
+    from radial_ibvs_gym.registration import VECTOR_ENTRY_POINTS
+
+    native = env_id in VECTOR_ENTRY_POINTS and env_kwargs.get("measurement") != "detected"
+    if native:
+        return make_vec_env(env_id, n_envs, seed=seed, **env_kwargs)
+    return sb3_make_vec_env(env_id, n_envs=n_envs, seed=seed, env_kwargs=env_kwargs)
+
+
 def train(
     config: TrainConfig,
     out_dir: Path | str,
@@ -144,11 +155,9 @@ def train(
     import torch
 
     torch.set_num_threads(torch_threads)
-    venv: Any = make_vec_env(
-        config.env_id, n_envs=config.n_envs, seed=seed, env_kwargs=config.env_kwargs
-    )
-    eval_env: Any = make_vec_env(
-        config.env_id, n_envs=1, seed=config.eval_seed, env_kwargs=config.env_kwargs
+    venv, eval_env = (
+        _make_venv(config.env_id, n, s, config.env_kwargs)
+        for n, s in ((config.n_envs, seed), (1, config.eval_seed))
     )
     if config.normalize is not None:
         venv = VecNormalize(venv, **config.normalize)

@@ -7,13 +7,24 @@ inside :func:`register_envs`.
 
 from __future__ import annotations
 
-__all__ = ["ENTRY_POINTS", "ENV_IDS", "MAX_EPISODE_STEPS", "register_envs"]
+__all__ = [
+    "ENTRY_POINTS",
+    "ENV_IDS",
+    "MAX_EPISODE_STEPS",
+    "VECTOR_ENTRY_POINTS",
+    "register_envs",
+]
 
 #: every registered id, with the entry point of its scalar env
 ENTRY_POINTS: dict[str, str] = {
     "RadialIBVS/Parking-v0": "radial_ibvs_gym.envs.parking:ParkingEnv",
     "RadialIBVS/ParkingGoal-v0": "radial_ibvs_gym.envs.parking_goal:ParkingGoalEnv",
     "RadialIBVS/ParkingImage-v0": "radial_ibvs_gym.envs.parking_image:ParkingImageEnv",
+}
+#: the ids with a native batched vector env (``gym.make_vec(..., "vector_entry_point")``)
+VECTOR_ENTRY_POINTS: dict[str, str] = {
+    "RadialIBVS/Parking-v0": "radial_ibvs_gym.envs.parking_vector:ParkingVectorEnv",
+    "RadialIBVS/ParkingGoal-v0": "radial_ibvs_gym.envs.parking_vector:ParkingGoalVectorEnv",
 }
 ENV_IDS: tuple[str, ...] = tuple(ENTRY_POINTS)
 #: the time limit of every registration: 600 control steps (60 s at ``control_dt = 0.1`` s)
@@ -26,4 +37,9 @@ def register_envs() -> None:
 
     for env_id, entry_point in ENTRY_POINTS.items():
         if env_id not in registry:
-            register(id=env_id, entry_point=entry_point, max_episode_steps=MAX_EPISODE_STEPS)
+            register(
+                id=env_id,
+                entry_point=entry_point,
+                vector_entry_point=VECTOR_ENTRY_POINTS.get(env_id),
+                max_episode_steps=MAX_EPISODE_STEPS,
+            )

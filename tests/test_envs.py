@@ -353,7 +353,7 @@ def test_fast_observation_path_equals_projection_through_the_camera(scenario: st
             pose = np.array(
                 [rng.uniform(0.3, w - 0.3), rng.uniform(0.3, d - 0.3), rng.uniform(-4, 4)]
             )
-            points, visible = base._image(pose, "current")
+            points, visible = base.image(base._setup, pose, "current", base.np_random)
             p_cam = world_to_camera(
                 base.episode.landmarks, pose, base.scenario.config.camera_height
             )

@@ -254,7 +254,9 @@ def test_detected_points_are_the_ideal_ones_with_the_right_identities() -> None:
     core = env.unwrapped
     worst, steps, done = 0.0, 0, False
     while not done:
-        ideal, ideal_visible = core._image(info["robot_pose"], "current")
+        ideal, ideal_visible = core.image(
+            core._setup, info["robot_pose"], "current", core.np_random
+        )
         seen = obs["visible"] > 0.5
         assert (ideal_visible | ~seen).all()  # nothing is seen that the camera cannot see
         detected = obs["points"].reshape(-1, 2).astype(np.float64)[seen]
@@ -381,7 +383,7 @@ def test_random_rooms_redraw_an_episode_whose_goal_image_shows_too_few_beacons()
     goals = []
     for seed in range(60):
         _, info = env.reset(seed=seed)
-        assert (env.unwrapped._goal_visible.sum()) >= 3
+        assert (env.unwrapped._setup.goal_visible.sum()) >= 3
         goals.append(info["goal_pose"])
     _, info = env.reset(seed=17)
     np.testing.assert_array_equal(info["goal_pose"], goals[17])  # still one draw per seed

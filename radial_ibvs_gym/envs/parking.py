@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any, Literal
 
@@ -10,22 +11,48 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from radial_ibvs_gym.camera import normalise_pixels
-from radial_ibvs_gym.features import c_ij, pair_indices, virtual_point_weights
+from radial_ibvs_gym.envs import logic
+from radial_ibvs_gym.features import c_ij, pair_indices
 from radial_ibvs_gym.geometry import world_to_camera, wrap_angle_scalar
 from radial_ibvs_gym.physics import BACKENDS, RobotConfig, World, make_world, wheels_to_twist
 from radial_ibvs_gym.scenarios import Episode, Scenario, load_scenario
 from radial_ibvs_gym.vision import ImageQuality
 from radial_ibvs_gym.vision.pipeline import DetectedPoints
 
-__all__ = ["ParkingEnv"]
+__all__ = ["EpisodeSetup", "ParkingEnv"]
 
 OBS_MODES = ("points", "features")
 
 
-def _potential(position_error: float, heading_error: float) -> float:
-    """Shaping potential of the ``precision`` reward term (metres, radians)."""
-    return -math.log(position_error + 0.01) - 0.5 * math.log(heading_error + 0.02)
+@dataclass
+class EpisodeSetup:
+    """What an env keeps of a drawn episode (the scalar and the vector envs alike).
+
+    Attributes
+    ----------
+    episode
+        The drawn episode (room, landmarks, start, goal; the goal's yaw wrapped).
+    goal_depths
+        ``(N,)`` goal depths ``d*`` given to the policy, metres (times ``depth_scale``).
+    landmarks_c
+        ``(N,)`` the landmarks on the floor plane as complex numbers ``x + i y``, metres.
+    radius_bounds
+        Per camera (``"current"``, ``"goal"``): the interval of horizontal distances the mirror
+        sees at each landmark's height, ``(lo, hi)`` each ``(N,)``; ``None`` for a camera with
+        imperfections (projected exactly instead).
+    goal_points, goal_visible
+        ``(N, 2)`` the goal image (zeros where hidden) and ``(N,)`` its visibility.
+    c_goal
+        ``(M,)`` the goal image's ``c*_ij`` (``obs_mode="features"``; else ``None``).
+    """
+
+    episode: Episode
+    goal_depths: np.ndarray
+    landmarks_c: np.ndarray
+    radius_bounds: dict[str, tuple[np.ndarray, np.ndarray] | None]
+    goal_points: np.ndarray
+    goal_visible: np.ndarray
+    c_goal: np.ndarray | None = None
 
 
 class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
@@ -270,14 +297,15 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._renderer: Any = None
         self.world: World | None = None
         self.episode: Episode | None = None
-        self._prev_errors: tuple[float, float] = (0.0, 0.0)
+        self._setup: EpisodeSetup | None = None
+        self._prev_errors: tuple[Any, Any] = (0.0, 0.0)
 
     # --- step ----------------------------------------------------------------------------------
     def step(
         self, action: np.ndarray
     ) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
         """Apply one action for ``control_dt`` seconds (see the class docstring)."""
-        if self.world is None:
+        if self.world is None or self._setup is None:
             raise RuntimeError("call reset() before step()")
         a = np.asarray(action, dtype=np.float64).reshape(-1)
         if a.shape != (2,):
@@ -291,29 +319,27 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             command = tuple(wheels_to_twist(command, self.robot).tolist())
         result = self.world.step(command, self.control_dt)
         self._observe(result.pose)
-        pos_err, head_err = self._errors(result.pose)
-        success = pos_err <= self.success_position_m and head_err <= self.success_heading_rad
-        lost = self._n_visible < self.min_visible
-        w = self.weights
-        terms = {
-            "progress": w["w_position"] * (self._prev_errors[0] - pos_err),
-            "heading": w["w_heading"] * (self._prev_errors[1] - head_err),
-            "precision": w["w_precision"]
-            * (_potential(pos_err, head_err) - _potential(*self._prev_errors)),
-            "time": -w["time_penalty"],
-            "collision": -w["collision_penalty"] * float(result.collision),
-            "lost": -w["lost_penalty"] * float(lost),
-            "success": w["success_bonus"] * float(success),
-        }
-        self._prev_errors = (pos_err, head_err)
-        terminated = bool(success or lost or (result.collision and self.terminate_on_collision))
-        info = self._info(result.pose, pos_err, head_err, success, result.collision)
+        now = logic.pose_errors(result.pose.tolist(), self._goal)
+        success, lost, terminated = logic.episode_end(
+            *now,
+            self._n_visible,
+            result.collision,
+            success_position_m=self.success_position_m,
+            success_heading_rad=self.success_heading_rad,
+            min_visible=self.min_visible,
+            terminate_on_collision=self.terminate_on_collision,
+        )
+        terms = logic.reward_terms(
+            self._prev_errors, now, result.collision, lost, success, self.weights
+        )
+        self._prev_errors = now
+        info = self._info(result.pose, now, bool(success), result.collision)
         info["reward_terms"] = terms
         if self.render_mode is not None:
             self._trail.append(result.pose[:2].copy())
         if self.render_mode == "human":
             self.render()
-        return self._obs(), float(sum(terms.values())), terminated, False, info
+        return self._obs(), float(sum(terms.values())), bool(terminated), False, info
 
     # --- reset ---------------------------------------------------------------------------------
     def reset(
@@ -325,56 +351,96 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         unknown = sorted(set(options) - {"start", "goal", "task"})
         if unknown:
             raise ValueError(f"unknown reset option(s) {unknown}; valid: ['goal', 'start', 'task']")
-        task = options.get("task", self.task)
-        # detected points: a goal image can show fewer beacons than the scenario guaranteed
-        # (too small, cut by the rim); draw again, a bounded number of times
-        attempts = 10 if self._detector is not None and "goal" not in options else 1
-        for attempt in range(attempts):
-            episode = self._draw_episode(task, options)
-            self._goal_depths = self.scenario.goal_depths(episode)
-            self._prepare_cameras()
-            if self._detector is not None:
-                goal_points, goal_visible = self._detector.reset(
-                    episode.room, episode.landmarks, episode.start, episode.goal, self.np_random
-                )
-            else:
-                goal_points, goal_visible = self._image(episode.goal, "goal")
-            if goal_visible.sum() >= self.min_visible:
-                break
-            if attempt == attempts - 1:
-                seen = "detected" if self._detector is not None else "visible"
-                raise ValueError(
-                    f"only {int(goal_visible.sum())} landmarks are {seen} at the goal "
-                    f"{episode.goal.tolist()}; at least {self.min_visible} are needed"
-                    + (f" (in {attempts} draws)" if attempts > 1 else "")
-                )
+        setup = self.setup_episode(self.np_random, options.get("task", self.task), options)
+        episode = setup.episode
+        self._setup, self.episode = setup, episode
+        self._goal = tuple(episode.goal.tolist())
         room = (float(episode.room[0]), float(episode.room[1]))
         extra = {"physics_dt": self.physics_dt} if self.physics == "pymunk" else {}
         obstacles = self.scenario.config.obstacles
         self.world = make_world(self.physics, self.robot, room, obstacles=obstacles, **extra)
         self.world.reset(episode.start)
-        self._goal_points = goal_points
-        self._goal_visible = goal_visible
         if self.obs_mode == "features":
-            self._c_goal = c_ij(self._unit_or_dummy(self._goal_points, goal_visible))
             self._weights_cache: dict[bytes, np.ndarray | None] = {}
         if self._detector is not None:
             self._points, self._visible = self._detector.initial()
             self._n_visible = int(self._visible.sum())
         else:
             self._observe(episode.start)
-        self._prev_errors = self._errors(episode.start)
+        self._prev_errors = logic.pose_errors(episode.start.tolist(), self._goal)
         self._renderer = None
         self._trail: list[np.ndarray] = [episode.start[:2].copy()]
         if self.render_mode == "human":
             self.render()
-        pos_err, head_err = self._prev_errors
-        info = self._info(episode.start, pos_err, head_err, False, False)
+        info = self._info(episode.start, self._prev_errors, False, False)
         return self._obs(), info
 
-    def _draw_episode(self, task: int | None, options: dict[str, Any]) -> Episode:
+    def setup_episode(
+        self, rng: np.random.Generator, task: int | None, options: dict[str, Any]
+    ) -> EpisodeSetup:
+        """Draw an episode with ``rng`` and take its goal image (the vector env uses it too).
+
+        Parameters
+        ----------
+        rng
+            The env's generator.
+        task
+            Task index, or ``None`` to draw one.
+        options
+            Reset options: ``start`` and ``goal`` poses fix those of the episode.
+
+        Raises
+        ------
+        ValueError
+            For a bad option, or a goal image with fewer than ``min_visible`` landmarks
+            (detected points: in 10 draws).
+        """
+        # detected points: a goal image can show fewer beacons than the scenario guaranteed
+        # (too small, cut by the rim); draw again, a bounded number of times
+        attempts = 10 if self._detector is not None and "goal" not in options else 1
+        for attempt in range(attempts):
+            episode = self._draw_episode(rng, task, options)
+            landmarks = episode.landmarks
+            heights = landmarks[:, 2] - self.scenario.config.camera_height
+            bounds: dict[str, tuple[np.ndarray, np.ndarray] | None] = {}
+            for which, camera in (
+                ("current", self.scenario.camera),
+                ("goal", self.scenario.goal_camera),
+            ):
+                ideal = not camera.imperfections.any
+                bounds[which] = camera.visible_radius_bounds(heights) if ideal else None
+            setup = EpisodeSetup(
+                episode=episode,
+                goal_depths=self.scenario.goal_depths(episode),
+                landmarks_c=landmarks[:, 0] + 1j * landmarks[:, 1],
+                radius_bounds=bounds,
+                goal_points=np.zeros((len(landmarks), 2)),
+                goal_visible=np.zeros(len(landmarks), dtype=bool),
+            )
+            if self._detector is not None:
+                setup.goal_points, setup.goal_visible = self._detector.reset(
+                    episode.room, episode.landmarks, episode.start, episode.goal, rng
+                )
+            else:
+                setup.goal_points, setup.goal_visible = self.image(setup, episode.goal, "goal", rng)
+            if setup.goal_visible.sum() >= self.min_visible:
+                break
+            if attempt == attempts - 1:
+                seen = "detected" if self._detector is not None else "visible"
+                raise ValueError(
+                    f"only {int(setup.goal_visible.sum())} landmarks are {seen} at the goal "
+                    f"{episode.goal.tolist()}; at least {self.min_visible} are needed"
+                    + (f" (in {attempts} draws)" if attempts > 1 else "")
+                )
+        if self.obs_mode == "features":
+            setup.c_goal = c_ij(logic.unit_or_dummy(setup.goal_points, setup.goal_visible))
+        return setup
+
+    def _draw_episode(
+        self, rng: np.random.Generator, task: int | None, options: dict[str, Any]
+    ) -> Episode:
         """Draw an episode from the scenario, with the start and goal ``options`` applied."""
-        episode = self.scenario.sample(self.np_random, task=task)
+        episode = self.scenario.sample(rng, task=task)
         for key in ("start", "goal"):
             if key in options:
                 pose = np.asarray(options[key], dtype=np.float64)
@@ -385,8 +451,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
                 )
         goal = episode.goal.astype(np.float64).copy()
         goal[2] = wrap_angle_scalar(float(goal[2]))
-        self.episode = episode = episode._replace(goal=goal)
-        return episode
+        return episode._replace(goal=goal)
 
     # --- rendering -----------------------------------------------------------------------------
     def render(self) -> np.ndarray | None:
@@ -437,135 +502,93 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         h = self.scenario.config.camera_height
         return world_to_camera(self.episode.landmarks, pose, h, validate=False)
 
-    @staticmethod
-    def _unit_or_dummy(points: np.ndarray, mask: np.ndarray) -> np.ndarray:
-        # hidden points are zeros in the observation; the features need unit vectors, and the
-        # pairs with a hidden point are masked out afterwards
-        return np.where(mask[:, None], points, np.array([1.0, 0.0]))
-
-    def _prepare_cameras(self) -> None:
-        """Per-episode constants of the fast observation path (landmarks at fixed heights)."""
-        assert self.episode is not None
-        landmarks = self.episode.landmarks
-        self._landmarks_xy = np.ascontiguousarray(landmarks[:, :2], dtype=np.float64)
-        heights = landmarks[:, 2] - self.scenario.config.camera_height
-        self._radius_bounds: dict[str, tuple[np.ndarray, np.ndarray] | None] = {}
-        for which, camera in (
-            ("current", self.scenario.camera),
-            ("goal", self.scenario.goal_camera),
-        ):
-            ideal = not camera.imperfections.any
-            self._radius_bounds[which] = camera.visible_radius_bounds(heights) if ideal else None
-
-    def _image(self, pose: np.ndarray, which: str) -> tuple[np.ndarray, np.ndarray]:
+    def image(
+        self, setup: EpisodeSetup, pose: np.ndarray, which: str, rng: np.random.Generator
+    ) -> tuple[np.ndarray, np.ndarray]:
         """Normalised image points ``(N, 2)`` (zeros where hidden) and visibility ``(N,)``.
 
-        An ideal camera gives eq. (9) exactly, so the points come straight from the 3D
-        geometry: the landmarks' bearings in the camera frame, and visibility from the interval
-        of horizontal distances the mirror sees at each landmark's height
-        (:meth:`CatadioptricCamera.visible_radius_bounds`). A camera with imperfections is
-        simulated as the paper's set-up measures: exact projection through the mirror with the
-        true intrinsics, tilt and offset, pixel noise from ``np_random``, then eq. (7) with the
-        *nominal* principal point and ``rho_f``.
+        An ideal camera gives eq. (9) exactly (:func:`~radial_ibvs_gym.envs.logic.radial_image`);
+        a camera with imperfections is simulated as the paper's set-up measures
+        (:func:`~radial_ibvs_gym.envs.logic.camera_image`, pixel noise from ``rng``).
+
+        Parameters
+        ----------
+        setup
+            The episode.
+        pose
+            ``(3,)`` robot pose, metres and radians.
+        which
+            ``"current"`` (the scenario's camera) or ``"goal"`` (its goal camera).
+        rng
+            The env's generator (pixel noise).
         """
+        bounds = setup.radius_bounds[which]
+        if bounds is not None:
+            return logic.radial_image(setup.landmarks_c, bounds[0], bounds[1], pose)
         camera = self.scenario.camera if which == "current" else self.scenario.goal_camera
-        bounds = self._radius_bounds[which]
-        if bounds is None:
-            p_cam = self._to_camera(pose)
-            if not camera.imperfections.any:  # an on-axis concave mirror: exact visibility
-                visible = camera.visible(p_cam, validate=False)
-                d = np.hypot(p_cam[:, 0], p_cam[:, 1])
-                return p_cam[:, :2] * (visible / np.maximum(d, 1e-300))[:, None], visible
-            proj = camera.forward(p_cam, rng=self.np_random)
-            k = camera.intrinsics
-            pixels = np.where(proj.visible[:, None], proj.pixels, k.principal_point + 1.0)
-            x_n = normalise_pixels(pixels, k.principal_point, k.rho_f)
-            return np.where(proj.visible[:, None], x_n, 0.0), proj.visible
-        x, y, yaw = pose.tolist()
-        c, s = math.cos(yaw), math.sin(yaw)
-        # the same rotation as world_to_camera, on the horizontal components only
-        xy = (self._landmarks_xy - (x, y)) @ np.array(((c, -s), (s, c)))
-        rho = np.hypot(xy[:, 0], xy[:, 1])
-        visible = (rho > bounds[0]) & (rho < bounds[1])
-        xy *= (visible / np.maximum(rho, 1e-300))[:, None]
-        return xy, visible
+        h = self.scenario.config.camera_height
+        p_cam = world_to_camera(setup.episode.landmarks, pose, h, validate=False)
+        return logic.camera_image(camera, p_cam, rng)
 
     def _observe(self, pose: np.ndarray) -> None:
+        assert self._setup is not None
         if self._detector is not None:
             self._points, self._visible = self._detector.observe(pose, self.np_random)
         else:
-            self._points, self._visible = self._image(pose, "current")
+            self._points, self._visible = self.image(self._setup, pose, "current", self.np_random)
         self._n_visible = int(self._visible.sum())
 
-    def _errors(self, pose: np.ndarray) -> tuple[float, float]:
-        assert self.episode is not None
-        goal = self.episode.goal
-        return (
-            math.hypot(pose[0] - goal[0], pose[1] - goal[1]),
-            abs(wrap_angle_scalar(float(pose[2] - goal[2]))),
+    def _feature_errors(self) -> tuple[np.ndarray, np.ndarray]:
+        assert self._setup is not None and self._setup.c_goal is not None
+        both = self._visible & self._setup.goal_visible
+        key = both.tobytes()
+        if key not in self._weights_cache:
+            self._weights_cache[key] = logic.goal_weights(self._setup.goal_points, both)
+        a = self._weights_cache[key]
+        return logic.feature_errors(
+            self._points,
+            both,
+            self._setup.c_goal,
+            self._pairs,
+            np.zeros(len(both)) if a is None else a,
+            np.bool_(a is not None),
         )
 
-    def _feature_errors(self) -> tuple[np.ndarray, np.ndarray]:
-        both = self._visible & self._goal_visible
-        i, j = self._pairs
-        pair_ok = both[i] & both[j]
-        c_now = c_ij(self._unit_or_dummy(self._points, both))
-        c_err = np.where(pair_ok, self._c_goal - c_now, 0.0)
-        alpha_err = 0.0
-        a = self._weights_for(both)
-        if a is not None:
-            # the virtual point of the goal image is (1, 0) by construction (eq. 27-29)
-            p_now = a @ self._points[both]
-            alpha_err = wrap_angle_scalar(-math.atan2(p_now[1], p_now[0]))
-        return c_err, np.array([alpha_err])
-
-    def _weights_for(self, mask: np.ndarray) -> np.ndarray | None:
-        """Virtual-point weights (eq. 27-29) of the goal points in ``mask``, cached per mask."""
-        key = mask.tobytes()
-        if key not in self._weights_cache:
-            a = None
-            if mask.sum() >= 2:
-                try:
-                    a = virtual_point_weights(self._goal_points[mask])
-                except ValueError:  # goal points collinear with the axis: no virtual point
-                    a = None
-            self._weights_cache[key] = a
-        return self._weights_cache[key]
-
     def _obs(self) -> dict[str, np.ndarray]:
-        obs: dict[str, np.ndarray] = {
-            "points": self._points.astype(np.float32).reshape(-1),
-            "goal_points": self._goal_points.astype(np.float32).reshape(-1),
-            "visible": self._visible.astype(np.float32),
-        }
+        assert self._setup is not None
+        features = None
         if self.obs_mode == "features":
             c_err, a_err = self._feature_errors()
-            obs["c_error"] = np.clip(c_err, -2.0, 2.0).astype(np.float32)
-            obs["alpha_m_error"] = a_err.astype(np.float32)
-        if self.goal_depths_in_obs:
-            obs["goal_depths"] = self._goal_depths.astype(np.float32)
-        if self.privileged:
-            assert self.world is not None and self.episode is not None
-            pose = self.world.pose
-            obs["robot_pose"] = pose
-            obs["goal_pose"] = self.episode.goal.astype(np.float64)
-            p_cam = self._to_camera(pose)
-            obs["depths"] = np.hypot(p_cam[:, 0], p_cam[:, 1]).astype(np.float32)
-        return obs
+            features = {"c_error": c_err, "alpha_m_error": a_err}
+        pose = self.world.pose if self.privileged and self.world is not None else None
+        return logic.observation(
+            self._points.reshape(-1),
+            self._setup.goal_points.reshape(-1),
+            self._visible,
+            features=features,
+            goal_depths=self._setup.goal_depths if self.goal_depths_in_obs else None,
+            robot_pose=pose,
+            goal_pose=self._setup.episode.goal if self.privileged else None,
+            landmarks=self._setup.landmarks_c if self.privileged else None,
+        )
 
     def _info(
-        self, pose: np.ndarray, pos_err: float, head_err: float, success: bool, collision: bool
+        self,
+        pose: np.ndarray,
+        errors: tuple[Any, Any],
+        success: bool,
+        collision: bool,
     ) -> dict[str, Any]:
-        assert self.episode is not None
+        assert self._setup is not None
         return {
             "robot_pose": np.asarray(pose, dtype=np.float64).copy(),
-            "goal_pose": self.episode.goal.copy(),
-            "position_error_m": pos_err,
-            "heading_error_deg": math.degrees(head_err),
+            "goal_pose": self._setup.episode.goal.copy(),
+            "position_error_m": float(errors[0]),
+            "heading_error_deg": math.degrees(float(errors[1])),
             "is_success": bool(success),
             "collision": bool(collision),
             "n_visible": self._n_visible,
-            "task": self.episode.task,
-            "goal_depths": self._goal_depths.copy(),
+            "task": self._setup.episode.task,
+            "goal_depths": self._setup.goal_depths.copy(),
             **({"detection": self._detector.info()} if self._detector is not None else {}),
         }

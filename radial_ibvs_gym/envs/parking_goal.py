@@ -7,6 +7,7 @@ from typing import Any
 import numpy as np
 from gymnasium import spaces
 
+from radial_ibvs_gym.envs import logic
 from radial_ibvs_gym.envs.parking import ParkingEnv
 
 __all__ = ["ParkingGoalEnv"]
@@ -72,18 +73,13 @@ class ParkingGoalEnv(ParkingEnv):
     ) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
         """Step as :class:`ParkingEnv`, with the goal-conditioned reward."""
         obs, _, terminated, truncated, info = super().step(action)
-        terms = info["reward_terms"]
-        terms["image_distance"] = float(
-            self.compute_reward(obs["achieved_goal"], obs["desired_goal"], info)
-        )
-        for key in ("progress", "heading", "precision", "time"):
-            terms.pop(key)
-        return obs, float(sum(terms.values())), terminated, truncated, info
+        distance = float(self.compute_reward(obs["achieved_goal"], obs["desired_goal"], info))
+        terms = logic.goal_reward_terms(info["reward_terms"], distance)
+        info["reward_terms"] = terms
+        return obs, float(sum(info["reward_terms"].values())), terminated, truncated, info
 
     def _obs(self) -> dict[str, np.ndarray]:
-        points = self._points.astype(np.float32).reshape(-1)
-        return {
-            "observation": np.concatenate([points, self._visible.astype(np.float32)]),
-            "achieved_goal": points,
-            "desired_goal": self._goal_points.astype(np.float32).reshape(-1),
-        }
+        assert self._setup is not None
+        return logic.goal_observation(
+            self._points.reshape(-1), self._visible, self._setup.goal_points.reshape(-1)
+        )

@@ -2,7 +2,8 @@
 
 Backends share one interface (``reset(pose)``, ``step(command, dt) -> StepResult``, ``pose``,
 ``velocity``, ``time``): ``pymunk`` simulates a rigid body with contacts against the walls,
-``kinematic`` integrates the unicycle exactly (the paper's simulations are kinematic).
+``kinematic`` integrates the unicycle exactly (the paper's simulations are kinematic). Their
+fleets (:mod:`.fleet`) step ``N`` robots, each in its own room, at once.
 """
 
 from typing import Any
@@ -14,6 +15,7 @@ from radial_ibvs_gym.physics.diffdrive import (
     twist_to_wheels,
     wheels_to_twist,
 )
+from radial_ibvs_gym.physics.fleet import Fleet, KinematicFleet, PymunkFleet, make_fleet
 from radial_ibvs_gym.physics.kinematic import KinematicWorld, integrate_unicycle
 from radial_ibvs_gym.physics.pymunk_world import PymunkWorld
 
@@ -37,13 +39,17 @@ def make_world(backend: str, robot: RobotConfig, room: tuple[float, float], **kw
 
 __all__ = [
     "BACKENDS",
+    "Fleet",
+    "KinematicFleet",
     "KinematicWorld",
+    "PymunkFleet",
     "PymunkWorld",
     "RobotConfig",
     "StepResult",
     "World",
     "integrate_unicycle",
     "limit_command",
+    "make_fleet",
     "make_world",
     "twist_to_wheels",
     "wheels_to_twist",

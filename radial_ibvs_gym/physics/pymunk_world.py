@@ -21,6 +21,11 @@ from radial_ibvs_gym.geometry import wrap_angle_scalar
 from radial_ibvs_gym.physics.base import StepResult, World
 from radial_ibvs_gym.physics.diffdrive import RobotConfig, limit_command
 
+try:  # pymunk's C functions (what its Python wrappers call); see PymunkWorld.step
+    from pymunk._chipmunk_cffi import lib as _cp
+except ImportError:  # pragma: no cover - another pymunk layout: the public API only
+    _cp = None
+
 __all__ = ["PymunkWorld"]
 
 ROBOT_TYPE, WALL_TYPE = 1, 2
@@ -130,8 +135,18 @@ class PymunkWorld(World):
         half = 0.5 * omega * self.physics_dt
         body, control, space, h = self._body, self._control, self.space, self.physics_dt
         control.angular_velocity = omega
-        for _ in range(n):
-            heading = body.angle + half  # mid-step heading: second-order accurate
-            control.velocity = (v * math.cos(heading), v * math.sin(heading))
-            space.step(h)
+        heading = body.angle + half  # mid-step heading: second-order accurate
+        control.velocity = (v * math.cos(heading), v * math.sin(heading))
+        space.step(h)  # the public step: pymunk's bookkeeping runs once per control step
+        if _cp is None:  # pragma: no cover - a pymunk without its cffi module
+            for _ in range(n - 1):
+                heading = body.angle + half
+                control.velocity = (v * math.cos(heading), v * math.sin(heading))
+                space.step(h)
+        else:  # the same calls, without the Python wrappers (they cost more than the physics)
+            body_c, control_c, space_c = body._body, control._body, space._space
+            for _ in range(n - 1):
+                heading = _cp.cpBodyGetAngle(body_c) + half
+                _cp.cpBodySetVelocity(control_c, (v * math.cos(heading), v * math.sin(heading)))
+                _cp.cpSpaceStep(space_c, h)
         return self._finish_step(vel, dt, bool(self._contact["touching"]))

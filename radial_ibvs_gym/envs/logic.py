@@ -1,0 +1,352 @@
+"""The parking task's logic, batched: observation, errors, reward terms and episode end.
+
+One implementation serves the scalar envs (:class:`~radial_ibvs_gym.envs.parking.ParkingEnv`,
+no batch dimension) and the native vector env
+(:class:`~radial_ibvs_gym.envs.parking_vector.ParkingVectorEnv`, a leading ``(B,)`` batch of
+envs): every function is elementwise over leading dimensions, so the two cannot drift apart.
+Pure numpy; frames and units as everywhere (world frame, metres, radians).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from radial_ibvs_gym.camera import CatadioptricCamera, normalise_pixels
+from radial_ibvs_gym.features import c_ij, virtual_point_weights
+from radial_ibvs_gym.geometry import wrap_angle
+
+__all__ = [
+    "REWARD_TERMS",
+    "camera_image",
+    "episode_end",
+    "feature_errors",
+    "goal_weights",
+    "pose_errors",
+    "potential",
+    "radial_image",
+    "reward_terms",
+    "unit_or_dummy",
+]
+
+_TWO_PI = 2.0 * math.pi
+
+#: the reward terms, in the order they are summed (``info["reward_terms"]``)
+REWARD_TERMS = ("progress", "heading", "precision", "time", "collision", "lost", "success")
+
+Array = NDArray[np.float64]
+
+
+def radial_image(
+    landmarks: NDArray[np.complex128], radius_lo: Array, radius_hi: Array, pose: Array
+) -> tuple[Array, NDArray[np.bool_]]:
+    """Normalised image points of an ideal on-axis camera (eq. 9), with visibility.
+
+    An ideal camera gives eq. (9) exactly, so the points are the landmarks' horizontal
+    bearings in the camera frame; a landmark is visible when its horizontal distance lies in
+    the interval the mirror sees at its height
+    (:meth:`~radial_ibvs_gym.camera.CatadioptricCamera.visible_radius_bounds`).
+
+    Parameters
+    ----------
+    landmarks
+        ``(..., N)`` landmark positions on the floor plane as complex numbers ``x + i y``,
+        world frame, metres (one complex multiplication rotates them into the camera frame).
+    radius_lo, radius_hi
+        ``(..., N)`` the visible interval of horizontal distances of each landmark, metres.
+    pose
+        ``(..., 3)`` robot (= camera) pose ``(x, y, yaw)``, metres and radians.
+
+    Returns
+    -------
+    points
+        ``(..., N, 2)`` unit vectors ``x_n`` in the camera frame, zeros where hidden.
+    visible
+        ``(..., N)`` visibility.
+    """
+    pose = np.asarray(pose, dtype=np.float64)
+    turn = np.exp(-1j * pose[..., 2:3])  # the world -> camera rotation about the axis
+    w = (landmarks - (pose[..., 0:1] + 1j * pose[..., 1:2])) * turn
+    rho = np.abs(w)
+    visible = (rho > radius_lo) & (rho < radius_hi)
+    w *= visible / np.maximum(rho, 1e-300)
+    return w.view(np.float64).reshape(*w.shape, 2), visible
+
+
+def camera_image(
+    camera: CatadioptricCamera, p_cam: Array, rng: np.random.Generator
+) -> tuple[Array, NDArray[np.bool_]]:
+    """Normalised image points of a real camera, measured as the paper's set-up does.
+
+    Exact projection through the mirror with the true intrinsics, tilt and offset, pixel noise
+    from ``rng``, then eq. (7) with the *nominal* principal point and ``rho_f``. An ideal
+    concave (self-occluding) mirror is handled exactly without the projection.
+
+    Parameters
+    ----------
+    camera
+        The camera (one env's).
+    p_cam
+        ``(N, 3)`` landmarks in the camera frame, metres.
+    rng
+        The env's generator (pixel noise).
+
+    Returns
+    -------
+    points, visible
+        ``(N, 2)`` (zeros where hidden) and ``(N,)``.
+    """
+    if not camera.imperfections.any:  # an on-axis concave mirror: exact visibility
+        visible = camera.visible(p_cam, validate=False)
+        d = np.hypot(p_cam[:, 0], p_cam[:, 1])
+        return p_cam[:, :2] * (visible / np.maximum(d, 1e-300))[:, None], visible
+    proj = camera.forward(p_cam, rng=rng)
+    k = camera.intrinsics
+    pixels = np.where(proj.visible[:, None], proj.pixels, k.principal_point + 1.0)
+    x_n = normalise_pixels(pixels, k.principal_point, k.rho_f)
+    return np.where(proj.visible[:, None], x_n, 0.0), proj.visible
+
+
+def _lib(x: Any) -> Any:
+    """``math`` for one env's Python floats, ``numpy`` for a batch: the same operations."""
+    return math if isinstance(x, float) else np
+
+
+def pose_errors(pose: Sequence[Any], goal: Sequence[Any]) -> tuple[Any, Any]:
+    """Position error (metres) and absolute heading error (radians) to the goal.
+
+    Parameters
+    ----------
+    pose, goal
+        ``(x, y, yaw)``, metres and radians: three floats (one env), or a ``(3, B)`` array
+        (a batch: ``poses.T``).
+
+    Returns
+    -------
+    position, heading
+        Floats or ``(B,)`` arrays; the heading error is wrapped to ``[0, pi]``.
+    """
+    x, y, yaw = pose[0], pose[1], pose[2]
+    dx, dy = x - goal[0], y - goal[1]
+    position = _lib(dx).sqrt(dx * dx + dy * dy)
+    # wrap to [-pi, pi) as geometry.wrap_angle does, with operators that floats and arrays share
+    shifted = (yaw - goal[2] + math.pi) % _TWO_PI
+    shifted = shifted - _TWO_PI * (shifted >= _TWO_PI)  # (-tiny) % 2 pi rounds up to 2 pi
+    return position, abs(shifted - math.pi)
+
+
+def potential(position_error: Any, heading_error: Any) -> Any:
+    """Shaping potential ``phi = -ln(e_p + 0.01) - 0.5 ln(e_h + 0.02)`` (metres, radians)."""
+    log = _lib(position_error).log
+    return -log(position_error + 0.01) - 0.5 * log(heading_error + 0.02)
+
+
+def episode_end(
+    position_error: Any,
+    heading_error: Any,
+    n_visible: Any,
+    collision: Any,
+    *,
+    success_position_m: float,
+    success_heading_rad: float,
+    min_visible: int,
+    terminate_on_collision: bool,
+) -> tuple[Any, Any, Any]:
+    """Success, lost and termination of a step (bools, or ``(B,)`` bool arrays).
+
+    Success: both errors within the tolerances. Lost: fewer than ``min_visible`` landmarks
+    visible. Termination: success, lost, or a collision when ``terminate_on_collision``.
+    """
+    success = (position_error <= success_position_m) & (heading_error <= success_heading_rad)
+    lost = n_visible < min_visible
+    terminated = success | lost
+    if terminate_on_collision:
+        terminated = terminated | collision
+    return success, lost, terminated
+
+
+def reward_terms(
+    previous: tuple[Any, Any],
+    now: tuple[Any, Any],
+    collision: Any,
+    lost: Any,
+    success: Any,
+    weights: Mapping[str, float],
+) -> dict[str, Any]:
+    """Return the named reward terms of a step (their sum is the reward).
+
+    ``progress = w_position (e_p(t-1) - e_p(t))`` (metres), ``heading = w_heading (e_h(t-1) -
+    e_h(t))`` (radians), ``precision = w_precision (phi(t) - phi(t-1))`` (:func:`potential`:
+    potential-based shaping, which keeps the optimal policy), ``time = -time_penalty``,
+    ``collision = -collision_penalty``, ``lost = -lost_penalty``, ``success =
+    success_bonus``, each on its event.
+
+    Parameters
+    ----------
+    previous, now
+        ``(position error, heading error)`` before and after the step: floats, or ``(B,)``.
+    collision, lost, success
+        The step's events: bools, or ``(B,)`` bool arrays.
+    weights
+        ``w_position``, ``w_heading``, ``w_precision``, ``time_penalty``,
+        ``collision_penalty``, ``lost_penalty``, ``success_bonus``.
+
+    Returns
+    -------
+    dict
+        :data:`REWARD_TERMS` -> floats or ``(B,)`` arrays, in summation order.
+    """
+    (p0, h0), (p1, h1) = previous, now
+    zero = 0.0 * p1
+    w = weights["w_precision"]
+    return {
+        "progress": weights["w_position"] * (p0 - p1),
+        "heading": weights["w_heading"] * (h0 - h1),
+        "precision": w * (potential(p1, h1) - potential(p0, h0)) if w else zero,
+        "time": zero - weights["time_penalty"],
+        "collision": -weights["collision_penalty"] * (collision + zero),
+        "lost": -weights["lost_penalty"] * (lost + zero),
+        "success": weights["success_bonus"] * (success + zero),
+    }
+
+
+def unit_or_dummy(points: Array, mask: NDArray[np.bool_]) -> Array:
+    """Hidden points (zeros) replaced by ``(1, 0)``: the features need unit vectors.
+
+    The pairs with a hidden point are masked out afterwards.
+    """
+    return np.where(mask[..., None], points, np.array([1.0, 0.0]))
+
+
+def goal_weights(goal_points: Array, mask: NDArray[np.bool_]) -> Array | None:
+    """Virtual-point weights (eq. 27-29) of the goal points in ``mask``, as an ``(N,)`` vector.
+
+    Zero outside ``mask``; ``None`` when fewer than 2 points are in it or they are collinear
+    with the axis (no virtual point).
+    """
+    if mask.sum() < 2:
+        return None
+    try:
+        a = virtual_point_weights(goal_points[mask])
+    except ValueError:  # goal points collinear with the axis: no virtual point
+        return None
+    full = np.zeros(mask.shape, dtype=np.float64)
+    full[mask] = a
+    return full
+
+
+def feature_errors(
+    points: Array,
+    both: NDArray[np.bool_],
+    c_goal: Array,
+    pairs: tuple[NDArray[np.intp], NDArray[np.intp]],
+    weights: Array,
+    has_weights: Any,
+) -> tuple[Array, Array]:
+    """Feature errors ``c*_ij - c_ij`` and ``alpha_m* - alpha_m`` (eq. 12, 19-29).
+
+    Parameters
+    ----------
+    points
+        ``(..., N, 2)`` current image points (zeros where hidden).
+    both
+        ``(..., N)`` visible now and in the goal image.
+    c_goal
+        ``(..., M)`` the goal image's ``c*_ij``.
+    pairs
+        The ``(i, j)`` index arrays of the ``M`` pairs.
+    weights
+        ``(..., N)`` the goal's virtual-point weights over ``both`` (:func:`goal_weights`; zero
+        outside ``both``).
+    has_weights
+        ``(...)`` whether a virtual point exists (else ``alpha_m`` error is 0).
+
+    Returns
+    -------
+    c_error
+        ``(..., M)``, 0 for pairs with a point not in ``both``.
+    alpha_m_error
+        ``(..., 1)`` radians: the goal's virtual point is ``(1, 0)`` by construction, so the
+        error is ``-alpha_m`` of the current virtual point ``sum_i a_i x_ni``.
+    """
+    i, j = pairs
+    pair_ok = both[..., i] & both[..., j]
+    c_now = c_ij(unit_or_dummy(points, both))
+    c_err = np.where(pair_ok, c_goal - c_now, 0.0)
+    p_now = (weights[..., None] * points).sum(axis=-2)
+    alpha = np.where(has_weights, wrap_angle(-np.arctan2(p_now[..., 1], p_now[..., 0])), 0.0)
+    return c_err, alpha[..., None]
+
+
+def observation(
+    points: Array,
+    goal_points: Array,
+    visible: NDArray[np.bool_],
+    *,
+    features: Mapping[str, Array] | None = None,
+    goal_depths: Array | None = None,
+    robot_pose: Array | None = None,
+    goal_pose: Array | None = None,
+    landmarks: NDArray[np.complex128] | None = None,
+) -> dict[str, NDArray[Any]]:
+    """Build the ``Parking-v0`` observation dict, in the spaces' dtypes (``(...)`` leading dims).
+
+    Parameters
+    ----------
+    points, goal_points
+        ``(..., 2N)`` current and goal image points, flattened (zeros where hidden).
+    visible
+        ``(..., N)`` visibility now.
+    features
+        ``c_error`` ``(..., M)`` and ``alpha_m_error`` ``(..., 1)`` (``obs_mode="features"``);
+        ``c_error`` is clipped to ``[-2, 2]``.
+    goal_depths
+        ``(..., N)`` goal depths ``d*``, metres (``goal_depths=True``).
+    robot_pose, goal_pose, landmarks
+        The privileged observation (``privileged=True``): poses ``(..., 3)`` and the landmarks
+        ``(..., N)`` (complex ``x + i y``) whose horizontal distances to the robot become
+        ``depths``.
+    """
+    obs: dict[str, NDArray[Any]] = {
+        "points": np.asarray(points, dtype=np.float32),
+        "goal_points": np.asarray(goal_points, dtype=np.float32),
+        "visible": np.asarray(visible, dtype=np.float32),
+    }
+    if features:
+        obs["c_error"] = np.clip(features["c_error"], -2.0, 2.0).astype(np.float32)
+        obs["alpha_m_error"] = np.asarray(features["alpha_m_error"], dtype=np.float32)
+    if goal_depths is not None:
+        obs["goal_depths"] = np.asarray(goal_depths, dtype=np.float32)
+    if robot_pose is not None and goal_pose is not None and landmarks is not None:
+        pose = np.asarray(robot_pose, dtype=np.float64)
+        obs["robot_pose"] = pose.copy()
+        obs["goal_pose"] = np.asarray(goal_pose, dtype=np.float64).copy()
+        position = pose[..., 0:1] + 1j * pose[..., 1:2]
+        obs["depths"] = np.abs(landmarks - position).astype(np.float32)
+    return obs
+
+
+def goal_observation(
+    points: Array, visible: NDArray[np.bool_], goal_points: Array
+) -> dict[str, NDArray[np.float32]]:
+    """Build the ``ParkingGoal-v0`` observation dict (goal-conditioned, for HER).
+
+    ``points``, ``goal_points``: ``(..., 2N)`` flattened image points; ``visible``: ``(..., N)``.
+    """
+    achieved = np.asarray(points, dtype=np.float32)
+    return {
+        "observation": np.concatenate([achieved, np.asarray(visible, dtype=np.float32)], axis=-1),
+        "achieved_goal": achieved,
+        "desired_goal": np.asarray(goal_points, dtype=np.float32),
+    }
+
+
+def goal_reward_terms(terms: Mapping[str, Any], image_distance: Any) -> dict[str, Any]:
+    """``ParkingGoal-v0``'s terms: the image distance reward, the events; no shaping terms."""
+    out = {k: v for k, v in terms.items() if k not in ("progress", "heading", "precision", "time")}
+    out["image_distance"] = image_distance
+    return out

@@ -1,0 +1,505 @@
+"""Native vector envs: ``N`` robots stepped in one batched call (``gym.make_vec``).
+
+``gym.make_vec("RadialIBVS/Parking-v0", num_envs=N, vectorization_mode="vector_entry_point")``
+(and the same for ``ParkingGoal-v0``) builds a :class:`ParkingVectorEnv`: one
+``gymnasium.vector.VectorEnv`` that steps all ``N`` robots with batched numpy (the
+:mod:`~radial_ibvs_gym.physics.fleet` physics, the observation, visibility, reward terms,
+termination and truncation of :mod:`~radial_ibvs_gym.envs.logic`, the code the scalar envs
+run). It takes the scalar env's keyword arguments and gives the same numbers as
+``gym.make_vec(..., vectorization_mode="sync")`` on the same seeds and actions.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+from gymnasium.utils import seeding
+from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector.utils import batch_space
+from numpy.typing import NDArray
+
+from radial_ibvs_gym.envs import logic
+from radial_ibvs_gym.envs.parking import ParkingEnv
+from radial_ibvs_gym.envs.parking_goal import ParkingGoalEnv
+from radial_ibvs_gym.physics.fleet import make_fleet
+from radial_ibvs_gym.registration import MAX_EPISODE_STEPS
+
+__all__ = ["ParkingGoalVectorEnv", "ParkingVectorEnv"]
+
+#: accepted spellings: Gymnasium's values (``"NextStep"``) and snake case (``"next_step"``)
+_MODES = {k: m for m in AutoresetMode for k in (m.value, m.name.lower())}
+
+
+class ParkingVectorEnv(VectorEnv):
+    """``RadialIBVS/Parking-v0`` for ``num_envs`` robots at once, batched in numpy.
+
+    ## Description
+    The task, spaces, rewards and episode end of
+    :class:`~radial_ibvs_gym.envs.parking.ParkingEnv`, for ``N`` robots. Each env has its own
+    generator (``reset(seed=s)`` seeds env ``i`` with ``s + i``, as ``SyncVectorEnv``
+    does), its own episode and, in ``random`` rooms, its own room and landmarks. The physics
+    is batched: the ``kinematic`` unicycle in numpy, or all ``N`` pymunk robots in one
+    ``pymunk.Space`` with their rooms placed apart (:mod:`radial_ibvs_gym.physics.fleet`).
+
+    ## Spaces
+    ``single_observation_space`` and ``single_action_space`` are the scalar env's;
+    ``observation_space`` and ``action_space`` batch them (leading ``N``).
+
+    ## Autoreset
+    ``metadata["autoreset_mode"]`` is the ``autoreset_mode`` argument (Gymnasium's
+    ``AutoresetMode``): ``"next_step"`` (default, as ``SyncVectorEnv``: the step after an
+    episode ends resets that env, ignoring its action, with reward 0) or ``"same_step"`` (the
+    env is reset in the step that ends it; ``info["final_obs"]`` and ``info["final_info"]``
+    hold the last observation and info). ``reset(options={"reset_mask": mask})`` resets only
+    the masked envs.
+
+    ## Info
+    A dict of arrays (Gymnasium's vector convention): every key of the scalar env's ``info``
+    with a leading ``N``, and its ``_key`` mask of the envs that reported it.
+
+    ## Arguments
+    ``num_envs`` (>= 1), ``autoreset_mode``, ``max_episode_steps`` (the time limit; the
+    registration's 600 by default), and every keyword argument of ``ParkingEnv``.
+    ``measurement="detected"`` and ``render_mode`` are not batched: use
+    ``vectorization_mode="sync"`` for them.
+
+    ## Errors
+    A NaN or infinite action raises ``ValueError`` naming the env; so does an action of the
+    wrong shape, and ``num_envs < 1``.
+
+    ```python
+    import gymnasium as gym
+    import radial_ibvs_gym  # registers the environments
+
+    envs = gym.make_vec("RadialIBVS/Parking-v0", num_envs=256, physics="kinematic")
+    obs, info = envs.reset(seed=0)
+    obs, reward, terminated, truncated, info = envs.step(envs.action_space.sample())
+    ```
+    """
+
+    metadata: dict[str, Any] = {"autoreset_mode": AutoresetMode.NEXT_STEP}  # noqa: RUF012
+    _scalar_class: type[ParkingEnv] = ParkingEnv
+
+    def __init__(
+        self,
+        num_envs: int = 1,
+        *,
+        autoreset_mode: AutoresetMode | str = AutoresetMode.NEXT_STEP,
+        max_episode_steps: int | None = MAX_EPISODE_STEPS,
+        render_mode: str | None = None,
+        **kwargs: Any,
+    ) -> None:
+        if isinstance(num_envs, bool) or not isinstance(num_envs, int | np.integer) or num_envs < 1:
+            raise ValueError(f"num_envs must be an integer >= 1, got {num_envs!r}")
+        if render_mode is not None:
+            raise ValueError(
+                "the native vector env does not render; use gym.make_vec(..., "
+                "vectorization_mode='sync', render_mode=...) or a scalar env"
+            )
+        if kwargs.get("measurement", "ideal") == "detected":
+            raise ValueError(
+                "measurement='detected' renders and detects images per env and is not batched; "
+                "use gym.make_vec(..., vectorization_mode='sync')"
+            )
+        if isinstance(autoreset_mode, str):
+            if autoreset_mode not in _MODES:
+                raise ValueError(
+                    f"unknown autoreset_mode {autoreset_mode!r}; valid: {sorted(_MODES)}"
+                )
+            autoreset_mode = _MODES[autoreset_mode]
+        if autoreset_mode == AutoresetMode.DISABLED:
+            raise ValueError("autoreset_mode 'disabled' is not supported; use 'next_step'")
+        if max_episode_steps is not None and max_episode_steps < 1:
+            raise ValueError(f"max_episode_steps must be >= 1, got {max_episode_steps!r}")
+        #: the scalar env that validated the arguments: its config, spaces and robot are ours
+        self.template = template = self._scalar_class(**kwargs)
+        self.num_envs = n = int(num_envs)
+        self.autoreset_mode = autoreset_mode
+        self.metadata = {**type(self).metadata, "autoreset_mode": autoreset_mode}
+        self.render_mode = None
+        self.max_episode_steps = max_episode_steps
+        self.scenario = template.scenario
+        self.single_observation_space = template.observation_space
+        self.single_action_space = template.action_space
+        self.observation_space = batch_space(self.single_observation_space, n)
+        self.action_space = batch_space(self.single_action_space, n)
+        config = self.scenario.config
+        room = config.random_room
+        max_room = (room.width[1], room.depth[1]) if room is not None else tuple(config.room)
+        extra = {"physics_dt": template.physics_dt, "max_room": max_room}
+        self.fleet = make_fleet(
+            template.physics, template.robot, n, obstacles=config.obstacles, **extra
+        )
+        nl = self.scenario.n_landmarks
+        self._rngs: list[np.random.Generator | None] = [None] * n
+        self._landmarks = np.zeros((n, nl, 3))
+        self._landmarks_c = np.zeros((n, nl), dtype=np.complex128)
+        self._bounds = np.zeros((2, n, nl))  # current camera: visible distance interval
+        self._goals = np.zeros((n, 3))
+        self._tasks = np.zeros(n, dtype=np.int64)
+        self._goal_points = np.zeros((n, nl, 2))
+        self._goal_visible = np.zeros((n, nl), dtype=bool)
+        self._goal_depths = np.zeros((n, nl))
+        self._points = np.zeros((n, nl, 2))
+        self._visible = np.zeros((n, nl), dtype=bool)
+        self._prev = (np.zeros(n), np.zeros(n))
+        self._elapsed = np.zeros(n, dtype=np.int64)
+        self._autoreset = np.zeros(n, dtype=bool)
+        self._fast = not self.scenario.camera.imperfections.any
+        if template.obs_mode == "features":
+            m = len(template._pairs[0])
+            self._c_goal = np.zeros((n, m))
+            self._weights = np.zeros((n, nl))
+            self._has_weights = np.zeros(n, dtype=bool)
+            self._both = np.zeros((n, nl), dtype=bool)
+            self._weight_caches: list[dict[bytes, NDArray[np.float64] | None]] = [
+                {} for _ in range(n)
+            ]
+
+    # --- reset ---------------------------------------------------------------------------------
+    def reset(
+        self,
+        *,
+        seed: int | list[int | None] | None = None,
+        options: dict[str, Any] | None = None,
+    ) -> tuple[Any, dict[str, Any]]:
+        """Reset every env (or those of ``options["reset_mask"]``); env ``i`` gets ``seed + i``."""
+        n = self.num_envs
+        if seed is None:
+            seeds: list[int | None] = [None] * n
+        elif isinstance(seed, int | np.integer):
+            seeds = [int(seed) + i for i in range(n)]
+        else:
+            seeds = list(seed)
+            if len(seeds) != n:
+                raise ValueError(f"seed must be an int or {n} seeds, got {len(seeds)}")
+        options = dict(options or {})
+        mask = options.pop("reset_mask", None)
+        if mask is None:
+            mask = np.ones(n, dtype=bool)
+        else:
+            mask = np.asarray(mask)
+            if mask.shape != (n,) or mask.dtype != np.bool_ or not mask.any():
+                raise ValueError(
+                    f"options['reset_mask'] must be a bool array of shape ({n},) with a True"
+                )
+        for i in np.flatnonzero(mask).tolist():
+            if seeds[i] is not None or self._rngs[i] is None:
+                self._rngs[i] = seeding.np_random(seeds[i])[0]
+        indices = np.flatnonzero(mask)
+        self._reset_envs(indices, options)
+        self._autoreset[indices] = False
+        info = self._reset_info(indices)
+        return self._observation(), info
+
+    def _reset_envs(self, indices: NDArray[np.intp], options: dict[str, Any]) -> None:
+        """Draw new episodes for the envs ``indices`` (each with its own generator)."""
+        t = self.template
+        unknown = sorted(set(options) - {"start", "goal", "task"})
+        if unknown:
+            raise ValueError(f"unknown reset option(s) {unknown}; valid: ['goal', 'start', 'task']")
+        task = options.get("task", t.task)
+        rooms, starts = [], []
+        for i in indices.tolist():
+            rng = self._rngs[i]
+            assert rng is not None
+            setup = t.setup_episode(rng, task, options)
+            episode = setup.episode
+            self._landmarks[i] = episode.landmarks
+            self._landmarks_c[i] = setup.landmarks_c
+            if self._fast:
+                bounds = setup.radius_bounds["current"]
+                assert bounds is not None
+                self._bounds[0, i], self._bounds[1, i] = bounds
+            self._goals[i] = episode.goal
+            self._tasks[i] = episode.task
+            self._goal_points[i] = setup.goal_points
+            self._goal_visible[i] = setup.goal_visible
+            self._goal_depths[i] = setup.goal_depths
+            self._setups[i] = setup
+            rooms.append(episode.room)
+            starts.append(episode.start)
+            if t.obs_mode == "features":
+                self._c_goal[i] = setup.c_goal
+                self._weight_caches[i] = {}
+                self._both[i] = False
+                self._weights[i] = 0.0
+                self._has_weights[i] = False
+        self.fleet.reset(indices, np.array(rooms), np.array(starts))
+        poses = self.fleet.poses
+        self._observe(poses, indices)
+        goals = self._goals[indices].T
+        errors = logic.pose_errors(poses[indices].T, goals)
+        self._prev[0][indices], self._prev[1][indices] = errors
+        self._elapsed[indices] = 0
+
+    @property
+    def _setups(self) -> list[Any]:
+        if not hasattr(self, "_setup_list"):
+            self._setup_list: list[Any] = [None] * self.num_envs
+        return self._setup_list
+
+    # --- step ----------------------------------------------------------------------------------
+    def step(
+        self, actions: Any
+    ) -> tuple[Any, NDArray[np.float64], NDArray[np.bool_], NDArray[np.bool_], dict[str, Any]]:
+        """Step every env; see the class docstring for autoreset and the info arrays."""
+        n, t = self.num_envs, self.template
+        a = np.asarray(actions, dtype=np.float64)
+        if a.shape != (n, 2):
+            raise ValueError(
+                f"actions must have shape ({n}, 2) (one (v, omega) row per env), got {a.shape}"
+            )
+        finite = np.isfinite(a).all(axis=1)
+        if not finite.all():
+            i = int(np.argmin(finite))
+            raise ValueError(f"env {i}: action must be two finite numbers, got {a[i].tolist()}")
+        if not any(self._rngs):
+            raise RuntimeError("call reset() before step()")
+        resetting = (
+            self._autoreset.copy() if self.autoreset_mode == AutoresetMode.NEXT_STEP else None
+        )
+        command = np.clip(a, -1.0, 1.0) * np.array(t._scale)
+        if t.action_type == "wheels":
+            from radial_ibvs_gym.physics import wheels_to_twist
+
+            command = wheels_to_twist(command, t.robot)
+        if resetting is not None and resetting.any():
+            command[resetting] = 0.0  # ignored: these envs are reset below
+        poses, collision = self.fleet.step(command, t.control_dt)
+        everyone = np.arange(n)
+        self._observe(poses, everyone)
+        now = logic.pose_errors(poses.T, self._goals.T)
+        n_visible = self._visible.sum(axis=1)
+        success, lost, terminated = logic.episode_end(
+            *now,
+            n_visible,
+            collision,
+            success_position_m=t.success_position_m,
+            success_heading_rad=t.success_heading_rad,
+            min_visible=t.min_visible,
+            terminate_on_collision=t.terminate_on_collision,
+        )
+        terms = self._reward_terms(self._prev, now, collision, lost, success)
+        reward = sum(terms.values(), np.zeros(n))
+        self._prev = now
+        self._elapsed += 1
+        truncated = (
+            self._elapsed >= self.max_episode_steps
+            if self.max_episode_steps is not None
+            else np.zeros(n, dtype=bool)
+        )
+        info = self._info(poses, now, success, collision, n_visible)
+        info["reward_terms"] = _masked(terms, np.ones(n, dtype=bool))
+        info["_reward_terms"] = np.ones(n, dtype=bool)
+        obs = self._observation()
+        if resetting is not None:
+            if resetting.any():
+                idx = np.flatnonzero(resetting)
+                self._reset_envs(idx, {})
+                reward[idx] = 0.0
+                terminated[idx] = False
+                truncated[idx] = False
+                obs = self._observation()
+                self._merge_reset_info(info, idx)
+            self._autoreset = terminated | truncated
+        else:  # same step: the envs that ended are reset now
+            ended = terminated | truncated
+            if ended.any():
+                idx = np.flatnonzero(ended)
+                final_obs = np.full(n, None, dtype=object)
+                step_obs = obs
+                for i in idx.tolist():
+                    final_obs[i] = {k: v[i] for k, v in step_obs.items()}
+                final_info = _select(info, ended)
+                self._reset_envs(idx, {})
+                obs = self._observation()
+                self._merge_reset_info(info, idx)
+                info["final_obs"], info["_final_obs"] = final_obs, ended.copy()
+                info["final_info"], info["_final_info"] = final_info, ended.copy()
+        return obs, reward, terminated, truncated, info
+
+    def _reward_terms(
+        self,
+        previous: tuple[NDArray[np.float64], NDArray[np.float64]],
+        now: tuple[NDArray[np.float64], NDArray[np.float64]],
+        collision: NDArray[np.bool_],
+        lost: NDArray[np.bool_],
+        success: NDArray[np.bool_],
+    ) -> dict[str, NDArray[np.float64]]:
+        return logic.reward_terms(previous, now, collision, lost, success, self.template.weights)
+
+    # --- observation and info ------------------------------------------------------------------
+    def _observe(self, poses: NDArray[np.float64], indices: NDArray[np.intp]) -> None:
+        """Image points and visibility of the envs ``indices`` at their ``poses`` ``(N, 3)``."""
+        if self._fast:
+            if len(indices) == self.num_envs:
+                pts, vis = logic.radial_image(
+                    self._landmarks_c, self._bounds[0], self._bounds[1], poses
+                )
+            else:
+                pts, vis = logic.radial_image(
+                    self._landmarks_c[indices],
+                    self._bounds[0, indices],
+                    self._bounds[1, indices],
+                    poses[indices],
+                )
+            self._points[indices], self._visible[indices] = pts, vis
+        else:  # a camera with imperfections: exact projection and noise, env by env
+            for i in indices.tolist():
+                rng = self._rngs[i]
+                assert rng is not None
+                self._points[i], self._visible[i] = self.template.image(
+                    self._setups[i], poses[i], "current", rng
+                )
+        if self.template.obs_mode == "features":
+            both = self._visible[indices] & self._goal_visible[indices]
+            changed = (both != self._both[indices]).any(axis=1)
+            for k in np.flatnonzero(changed).tolist():
+                i = int(indices[k])
+                key = both[k].tobytes()
+                cache = self._weight_caches[i]
+                if key not in cache:
+                    cache[key] = logic.goal_weights(self._goal_points[i], both[k])
+                a = cache[key]
+                self._has_weights[i] = a is not None
+                self._weights[i] = 0.0 if a is None else a
+            self._both[indices] = both
+
+    def _observation(self) -> dict[str, NDArray[Any]]:
+        t, n = self.template, self.num_envs
+        extra: dict[str, NDArray[Any]] = {}
+        if t.obs_mode == "features":
+            c_err, a_err = logic.feature_errors(
+                self._points, self._both, self._c_goal, t._pairs, self._weights, self._has_weights
+            )
+            extra = {"c_error": c_err, "alpha_m_error": a_err}
+        poses = self.fleet.poses if t.privileged else None
+        return logic.observation(
+            self._points.reshape(n, -1),
+            self._goal_points.reshape(n, -1),
+            self._visible,
+            features=extra,
+            goal_depths=self._goal_depths if t.goal_depths_in_obs else None,
+            robot_pose=poses,
+            goal_pose=self._goals if t.privileged else None,
+            landmarks=self._landmarks_c if t.privileged else None,
+        )
+
+    def _info(
+        self,
+        poses: NDArray[np.float64],
+        errors: tuple[NDArray[np.float64], NDArray[np.float64]],
+        success: NDArray[np.bool_],
+        collision: NDArray[np.bool_],
+        n_visible: NDArray[np.integer[Any]],
+    ) -> dict[str, Any]:
+        values = {
+            "robot_pose": poses.copy(),
+            "goal_pose": self._goals.copy(),
+            "position_error_m": errors[0].astype(np.float64),
+            "heading_error_deg": np.degrees(errors[1]),
+            "is_success": np.asarray(success, dtype=bool),
+            "collision": np.asarray(collision, dtype=bool),
+            "n_visible": np.asarray(n_visible, dtype=np.int64),
+            "task": self._tasks.copy(),
+            "goal_depths": self._goal_depths.copy(),
+        }
+        return _masked(values, np.ones(self.num_envs, dtype=bool))
+
+    def _reset_info(self, indices: NDArray[np.intp]) -> dict[str, Any]:
+        n = self.num_envs
+        poses = self.fleet.poses
+        errors = self._prev
+        zero = np.zeros(n, dtype=bool)
+        info = self._info(poses, errors, zero, zero, self._visible.sum(axis=1))
+        mask = np.zeros(n, dtype=bool)
+        mask[indices] = True
+        return _select(info, mask)
+
+    def _merge_reset_info(self, info: dict[str, Any], indices: NDArray[np.intp]) -> None:
+        """Replace the entries of the envs just reset by their reset info (as SyncVectorEnv)."""
+        reset = self._reset_info(indices)
+        for key, value in reset.items():
+            if key.startswith("_"):
+                continue
+            info[key][indices] = value[indices]
+        terms = info["reward_terms"]
+        for key in [k for k in terms if not k.startswith("_")]:
+            terms[key][indices] = 0.0
+            terms[f"_{key}"][indices] = False
+        info["_reward_terms"][indices] = False
+        if not info["_reward_terms"].any():  # no env stepped: no env reports the key
+            del info["reward_terms"], info["_reward_terms"]
+
+    def close_extras(self, **kwargs: Any) -> None:
+        """Release the physics."""
+        self.fleet = None  # type: ignore[assignment]
+
+
+class ParkingGoalVectorEnv(ParkingVectorEnv):
+    """``RadialIBVS/ParkingGoal-v0`` for ``num_envs`` robots: the goal-conditioned observation.
+
+    Same as :class:`ParkingVectorEnv` with the observation and reward of
+    :class:`~radial_ibvs_gym.envs.parking_goal.ParkingGoalEnv` (``compute_reward`` included,
+    for HER).
+    """
+
+    _scalar_class = ParkingGoalEnv
+
+    def compute_reward(
+        self, achieved_goal: NDArray[Any], desired_goal: NDArray[Any], info: Any
+    ) -> NDArray[np.float64]:
+        """Return the image-space reward of :meth:`ParkingGoalEnv.compute_reward` (batched)."""
+        return self.template.compute_reward(achieved_goal, desired_goal, info)  # type: ignore[attr-defined]
+
+    def _observation(self) -> dict[str, NDArray[Any]]:
+        n = self.num_envs
+        return logic.goal_observation(
+            self._points.reshape(n, -1), self._visible, self._goal_points.reshape(n, -1)
+        )
+
+    def _reward_terms(
+        self,
+        previous: tuple[NDArray[np.float64], NDArray[np.float64]],
+        now: tuple[NDArray[np.float64], NDArray[np.float64]],
+        collision: NDArray[np.bool_],
+        lost: NDArray[np.bool_],
+        success: NDArray[np.bool_],
+    ) -> dict[str, NDArray[np.float64]]:
+        terms = super()._reward_terms(previous, now, collision, lost, success)
+        n = self.num_envs
+        distance = self.compute_reward(
+            self._points.reshape(n, -1).astype(np.float32),
+            self._goal_points.reshape(n, -1).astype(np.float32),
+            None,
+        )
+        return logic.goal_reward_terms(terms, distance.astype(np.float64))
+
+
+def _masked(values: dict[str, Any], mask: NDArray[np.bool_]) -> dict[str, Any]:
+    """``values`` with a ``_key`` mask beside every key (Gymnasium's vector info convention)."""
+    out: dict[str, Any] = {}
+    for key, value in values.items():
+        out[key] = _masked(value, mask) if isinstance(value, dict) else value
+        out[f"_{key}"] = mask.copy()
+    return out
+
+
+def _select(info: dict[str, Any], mask: NDArray[np.bool_]) -> dict[str, Any]:
+    """Keep the entries of the envs in ``mask``: other rows zeroed and their masks off."""
+    out: dict[str, Any] = {}
+    for key, value in info.items():
+        if key.startswith("_"):
+            continue
+        if isinstance(value, dict):
+            out[key] = _select(value, mask)
+        elif isinstance(value, np.ndarray) and value.dtype != object:
+            kept = np.zeros_like(value)
+            kept[mask] = value[mask]
+            out[key] = kept
+        else:
+            continue
+        out[f"_{key}"] = mask & info.get(f"_{key}", np.ones_like(mask))
+    return out
