@@ -301,7 +301,7 @@ class ParkingVectorEnv(VectorEnv):
                 reward[idx] = 0.0
                 terminated[idx] = False
                 truncated[idx] = False
-                obs = self._observation()
+                self._refresh(obs, idx)
                 self._merge_reset_info(info, idx)
             self._autoreset = terminated | truncated
         else:  # same step: the envs that ended are reset now
@@ -309,12 +309,11 @@ class ParkingVectorEnv(VectorEnv):
             if ended.any():
                 idx = np.flatnonzero(ended)
                 final_obs = np.full(n, None, dtype=object)
-                step_obs = obs
                 for i in idx.tolist():
-                    final_obs[i] = {k: v[i] for k, v in step_obs.items()}
+                    final_obs[i] = {k: v[i].copy() for k, v in obs.items()}
                 final_info = _select(info, ended)
                 self._reset_envs(idx, {})
-                obs = self._observation()
+                self._refresh(obs, idx)
                 self._merge_reset_info(info, idx)
                 info["final_obs"], info["_final_obs"] = final_obs, ended.copy()
                 info["final_info"], info["_final_info"] = final_info, ended.copy()
@@ -367,25 +366,37 @@ class ParkingVectorEnv(VectorEnv):
                 self._weights[i] = 0.0 if a is None else a
             self._both[indices] = both
 
-    def _observation(self) -> dict[str, NDArray[Any]]:
-        t, n = self.template, self.num_envs
+    def _observation(self, idx: Any = slice(None)) -> dict[str, NDArray[Any]]:
+        """Return the observations of the envs ``idx`` (default: all)."""
+        t = self.template
+        points = self._points[idx]
         extra: dict[str, NDArray[Any]] = {}
         if t.obs_mode == "features":
             c_err, a_err = logic.feature_errors(
-                self._points, self._both, self._c_goal, t._pairs, self._weights, self._has_weights
+                points,
+                self._both[idx],
+                self._c_goal[idx],
+                t._pairs,
+                self._weights[idx],
+                self._has_weights[idx],
             )
             extra = {"c_error": c_err, "alpha_m_error": a_err}
-        poses = self.fleet.poses if t.privileged else None
         return logic.observation(
-            self._points.reshape(n, -1),
-            self._goal_points.reshape(n, -1),
-            self._visible,
+            points.reshape(len(points), -1),
+            self._goal_points[idx].reshape(len(points), -1),
+            self._visible[idx],
             features=extra,
-            goal_depths=self._goal_depths if t.goal_depths_in_obs else None,
-            robot_pose=poses,
-            goal_pose=self._goals if t.privileged else None,
-            landmarks=self._landmarks_c if t.privileged else None,
+            goal_depths=self._goal_depths[idx] if t.goal_depths_in_obs else None,
+            robot_pose=self.fleet.poses[idx] if t.privileged else None,
+            goal_pose=self._goals[idx] if t.privileged else None,
+            landmarks=self._landmarks_c[idx] if t.privileged else None,
         )
+
+    def _refresh(self, obs: dict[str, NDArray[Any]], idx: NDArray[np.intp]) -> None:
+        """Overwrite the rows ``idx`` of ``obs`` with those envs' current observations."""
+        fresh = self._observation(idx)
+        for key, value in obs.items():
+            value[idx] = fresh[key]
 
     def _info(
         self,
@@ -408,23 +419,38 @@ class ParkingVectorEnv(VectorEnv):
         }
         return _masked(values, np.ones(self.num_envs, dtype=bool))
 
+    def _reset_values(self, indices: NDArray[np.intp]) -> dict[str, Any]:
+        """Return the reset ``info`` values of the envs ``indices`` (rows of each key)."""
+        k = len(indices)
+        no = np.zeros(k, dtype=bool)
+        errors = (self._prev[0][indices], self._prev[1][indices])
+        return {
+            "robot_pose": self.fleet.poses[indices],
+            "goal_pose": self._goals[indices],
+            "position_error_m": errors[0],
+            "heading_error_deg": np.degrees(errors[1]),
+            "is_success": no,
+            "collision": no,
+            "n_visible": self._visible[indices].sum(axis=1).astype(np.int64),
+            "task": self._tasks[indices],
+            "goal_depths": self._goal_depths[indices],
+        }
+
     def _reset_info(self, indices: NDArray[np.intp]) -> dict[str, Any]:
-        n = self.num_envs
-        poses = self.fleet.poses
-        errors = self._prev
-        zero = np.zeros(n, dtype=bool)
-        info = self._info(poses, errors, zero, zero, self._visible.sum(axis=1))
-        mask = np.zeros(n, dtype=bool)
+        """Return the ``info`` of :meth:`reset`: the reset envs' rows, the others masked."""
+        info: dict[str, Any] = {}
+        mask = np.zeros(self.num_envs, dtype=bool)
         mask[indices] = True
-        return _select(info, mask)
+        for key, rows in self._reset_values(indices).items():
+            full = np.zeros((self.num_envs, *rows.shape[1:]), dtype=rows.dtype)
+            full[indices] = rows
+            info[key], info[f"_{key}"] = full, mask.copy()
+        return info
 
     def _merge_reset_info(self, info: dict[str, Any], indices: NDArray[np.intp]) -> None:
         """Replace the entries of the envs just reset by their reset info (as SyncVectorEnv)."""
-        reset = self._reset_info(indices)
-        for key, value in reset.items():
-            if key.startswith("_"):
-                continue
-            info[key][indices] = value[indices]
+        for key, rows in self._reset_values(indices).items():
+            info[key][indices] = rows
         terms = info["reward_terms"]
         for key in [k for k in terms if not k.startswith("_")]:
             terms[key][indices] = 0.0
@@ -454,10 +480,11 @@ class ParkingGoalVectorEnv(ParkingVectorEnv):
         """Return the image-space reward of :meth:`ParkingGoalEnv.compute_reward` (batched)."""
         return self.template.compute_reward(achieved_goal, desired_goal, info)  # type: ignore[attr-defined]
 
-    def _observation(self) -> dict[str, NDArray[Any]]:
-        n = self.num_envs
+    def _observation(self, idx: Any = slice(None)) -> dict[str, NDArray[Any]]:
+        points = self._points[idx]
+        n = len(points)
         return logic.goal_observation(
-            self._points.reshape(n, -1), self._visible, self._goal_points.reshape(n, -1)
+            points.reshape(n, -1), self._visible[idx], self._goal_points[idx].reshape(n, -1)
         )
 
     def _reward_terms(
