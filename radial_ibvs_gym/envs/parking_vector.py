@@ -20,7 +20,7 @@ from gymnasium.vector.utils import batch_space
 from numpy.typing import NDArray
 
 from radial_ibvs_gym.envs import logic
-from radial_ibvs_gym.envs.parking import ParkingEnv
+from radial_ibvs_gym.envs.parking import EpisodeSetup, ParkingEnv
 from radial_ibvs_gym.envs.parking_goal import ParkingGoalEnv
 from radial_ibvs_gym.physics.fleet import make_fleet
 from radial_ibvs_gym.registration import MAX_EPISODE_STEPS
@@ -133,6 +133,7 @@ class ParkingVectorEnv(VectorEnv):
         )
         nl = self.scenario.n_landmarks
         self._rngs: list[np.random.Generator | None] = [None] * n
+        self._setups: list[EpisodeSetup | None] = [None] * n
         self._landmarks = np.zeros((n, nl, 3))
         self._landmarks_c = np.zeros((n, nl), dtype=np.complex128)
         self._bounds = np.zeros((2, n, nl))  # current camera: visible distance interval
@@ -233,12 +234,6 @@ class ParkingVectorEnv(VectorEnv):
         errors = logic.pose_errors(poses[indices].T, goals)
         self._prev[0][indices], self._prev[1][indices] = errors
         self._elapsed[indices] = 0
-
-    @property
-    def _setups(self) -> list[Any]:
-        if not hasattr(self, "_setup_list"):
-            self._setup_list: list[Any] = [None] * self.num_envs
-        return self._setup_list
 
     # --- step ----------------------------------------------------------------------------------
     def step(
@@ -349,8 +344,10 @@ class ParkingVectorEnv(VectorEnv):
             for i in indices.tolist():
                 rng = self._rngs[i]
                 assert rng is not None
+                setup = self._setups[i]
+                assert setup is not None
                 self._points[i], self._visible[i] = self.template.image(
-                    self._setups[i], poses[i], "current", rng
+                    setup, poses[i], "current", rng
                 )
         if self.template.obs_mode == "features":
             both = self._visible[indices] & self._goal_visible[indices]
