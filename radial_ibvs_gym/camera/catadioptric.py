@@ -72,12 +72,16 @@ class Imperfections:
     @property
     def any(self) -> bool:
         """True when any imperfection is set (the camera differs from its nominal model)."""
-        return self != Imperfections()
+        return self != _NOMINAL
 
     @property
     def geometric(self) -> bool:
         """True when the camera is tilted or off the mirror axis (the radial model breaks)."""
         return any(v != 0.0 for v in (*self.tilt, *self.axis_offset))
+
+
+#: the nominal camera: no imperfection (compared with, not rebuilt, by ``Imperfections.any``)
+_NOMINAL = Imperfections()
 
 
 class Projection(NamedTuple):

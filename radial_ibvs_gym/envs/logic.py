@@ -69,8 +69,9 @@ def radial_image(
         ``(..., N)`` visibility.
     """
     pose = np.asarray(pose, dtype=np.float64)
+    position = pose[..., :2].view(np.complex128)  # (..., 1): x + i y, no copy
     turn = np.exp(-1j * pose[..., 2:3])  # the world -> camera rotation about the axis
-    w = (landmarks - (pose[..., 0:1] + 1j * pose[..., 1:2])) * turn
+    w = (landmarks - position) * turn
     rho = np.abs(w)
     visible = (rho > radius_lo) & (rho < radius_hi)
     w *= visible / np.maximum(rho, 1e-300)

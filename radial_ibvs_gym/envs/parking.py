@@ -298,6 +298,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.world: World | None = None
         self.episode: Episode | None = None
         self._setup: EpisodeSetup | None = None
+        self._bounds_cache: dict[str, tuple[np.ndarray, np.ndarray]] = {}
         self._prev_errors: tuple[Any, Any] = (0.0, 0.0)
 
     # --- step ----------------------------------------------------------------------------------
@@ -364,7 +365,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             self._weights_cache: dict[bytes, np.ndarray | None] = {}
         if self._detector is not None:
             self._points, self._visible = self._detector.initial()
-            self._n_visible = int(self._visible.sum())
+            self._n_visible = int(np.count_nonzero(self._visible))
         else:
             self._observe(episode.start)
         self._prev_errors = logic.pose_errors(episode.start.tolist(), self._goal)
@@ -407,8 +408,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
                 ("current", self.scenario.camera),
                 ("goal", self.scenario.goal_camera),
             ):
-                ideal = not camera.imperfections.any
-                bounds[which] = camera.visible_radius_bounds(heights) if ideal else None
+                bounds[which] = self._radius_bounds(which, camera, heights)
             setup = EpisodeSetup(
                 episode=episode,
                 goal_depths=self.scenario.goal_depths(episode),
@@ -435,6 +435,21 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         if self.obs_mode == "features":
             setup.c_goal = c_ij(logic.unit_or_dummy(setup.goal_points, setup.goal_visible))
         return setup
+
+    def _radius_bounds(
+        self, which: str, camera: Any, heights: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray] | None:
+        """Return the camera's visible distance interval per landmark height (None: imperfect).
+
+        Cached per camera for scenarios with fixed landmarks (the same heights every episode).
+        """
+        if camera.imperfections.any:
+            return None
+        if self.scenario.config.random_landmarks is not None:
+            return camera.visible_radius_bounds(heights)  # type: ignore[no-any-return]
+        if which not in self._bounds_cache:
+            self._bounds_cache[which] = camera.visible_radius_bounds(heights)
+        return self._bounds_cache[which]
 
     def _draw_episode(
         self, rng: np.random.Generator, task: int | None, options: dict[str, Any]
@@ -536,7 +551,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             self._points, self._visible = self._detector.observe(pose, self.np_random)
         else:
             self._points, self._visible = self.image(self._setup, pose, "current", self.np_random)
-        self._n_visible = int(self._visible.sum())
+        self._n_visible = int(np.count_nonzero(self._visible))
 
     def _feature_errors(self) -> tuple[np.ndarray, np.ndarray]:
         assert self._setup is not None and self._setup.c_goal is not None

@@ -113,10 +113,15 @@ def limit_command(
     ValueError
         If the command is NaN or infinite.
     """
-    cmd = np.asarray(command, dtype=np.float64)
-    if cmd.shape != (2,) or not (math.isfinite(cmd[0]) and math.isfinite(cmd[1])):
+    if isinstance(command, tuple) and len(command) == 2:  # the envs' fast path: two floats
+        v, w = float(command[0]), float(command[1])
+    else:
+        cmd = np.asarray(command, dtype=np.float64)
+        if cmd.shape != (2,):
+            raise ValueError(f"command must be two finite numbers (v, omega), got {command!r}")
+        v, w = float(cmd[0]), float(cmd[1])
+    if not (math.isfinite(v) and math.isfinite(w)):
         raise ValueError(f"command must be two finite numbers (v, omega), got {command!r}")
-    v, w = float(cmd[0]), float(cmd[1])
     v_max, w_max = config.max_linear_speed, config.max_angular_speed
     if config.saturation == "scale":
         factor = max(1.0, abs(v) / v_max, abs(w) / w_max)

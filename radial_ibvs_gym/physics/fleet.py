@@ -179,15 +179,13 @@ class KinematicFleet(Fleet):
         small = np.abs(half) <= 1e-12
         sinc = np.where(small, 1.0 - half * half / 6.0, np.sin(half) / np.where(small, 1.0, half))
         chord = v * dt * sinc
-        self._poses = np.stack(
-            [
-                x + chord * np.cos(th + half),
-                y + chord * np.sin(th + half),
-                wrap_angle(th + omega * dt),
-            ],
-            axis=-1,
-        )
-        return self._poses.copy(), self.colliding(self._poses, self.rooms)
+        mid = th + half
+        poses = np.empty_like(self._poses)
+        poses[:, 0] = x + chord * np.cos(mid)
+        poses[:, 1] = y + chord * np.sin(mid)
+        poses[:, 2] = wrap_angle(th + omega * dt)
+        self._poses = poses
+        return poses.copy(), self.colliding(poses, self.rooms)
 
 
 def _touching(arbiter: Any, space: Any, data: dict[str, Any]) -> None:

@@ -99,8 +99,12 @@ class PymunkWorld(World):
 
     @property
     def pose(self) -> NDArray[np.float64]:  # noqa: D102
-        p = self._body.position
-        return np.array([p.x, p.y, wrap_angle_scalar(self._body.angle)])
+        if _cp is None:  # pragma: no cover - a pymunk without its cffi module
+            p = self._body.position
+            return np.array([p.x, p.y, wrap_angle_scalar(self._body.angle)])
+        body = self._body._body
+        p = _cp.cpBodyGetPosition(body)
+        return np.array([p.x, p.y, wrap_angle_scalar(_cp.cpBodyGetAngle(body))])
 
     def reset(self, pose: ArrayLike) -> None:  # noqa: D102
         p = self._check_pose(pose)
@@ -134,17 +138,19 @@ class PymunkWorld(World):
         self._contact["touching"] = False
         half = 0.5 * omega * self.physics_dt
         body, control, space, h = self._body, self._control, self.space, self.physics_dt
-        control.angular_velocity = omega
-        heading = body.angle + half  # mid-step heading: second-order accurate
-        control.velocity = (v * math.cos(heading), v * math.sin(heading))
-        space.step(h)  # the public step: pymunk's bookkeeping runs once per control step
         if _cp is None:  # pragma: no cover - a pymunk without its cffi module
-            for _ in range(n - 1):
-                heading = body.angle + half
+            control.angular_velocity = omega
+            for _ in range(n):
+                heading = body.angle + half  # mid-step heading: second-order accurate
                 control.velocity = (v * math.cos(heading), v * math.sin(heading))
                 space.step(h)
         else:  # the same calls, without the Python wrappers (they cost more than the physics)
-            body_c, control_c, space_c = body._body, control._body, space._space
+            body_c, control_c = body._body, control._body
+            _cp.cpBodySetAngularVelocity(control_c, omega)
+            heading = _cp.cpBodyGetAngle(body_c) + half
+            _cp.cpBodySetVelocity(control_c, (v * math.cos(heading), v * math.sin(heading)))
+            space.step(h)  # the public step: pymunk's bookkeeping runs once per control step
+            space_c = space._space
             for _ in range(n - 1):
                 heading = _cp.cpBodyGetAngle(body_c) + half
                 _cp.cpBodySetVelocity(control_c, (v * math.cos(heading), v * math.sin(heading)))

@@ -58,6 +58,11 @@ class Scenario:
 
     def __init__(self, config: ScenarioConfig) -> None:
         self.config = config
+        #: the fixed landmarks as an array (None for random ones), converted once
+        self._fixed_landmarks = (
+            np.array(config.landmarks, dtype=np.float64) if config.landmarks else None
+        )
+        self._bounds: dict[int, tuple[np.ndarray, np.ndarray] | None] = {}
         self.camera: CatadioptricCamera = config.camera.build()
         self.goal_camera: CatadioptricCamera = (
             config.goal_camera.build() if config.goal_camera is not None else self.camera
@@ -100,6 +105,26 @@ class Scenario:
         p_cam = world_to_camera(pts, pose, self.config.camera_height)
         return (cam or self.camera).visible(p_cam)
 
+    def _visible_count(
+        self, pose: np.ndarray, landmarks: np.ndarray, cam: CatadioptricCamera
+    ) -> int:
+        """Count what :meth:`visible` sees, for the arrays :meth:`sample` made.
+
+        An on-axis camera sees a landmark iff its horizontal distance lies in an interval set
+        by its height (:meth:`CatadioptricCamera.visible_radius_bounds`): computed once for
+        fixed landmarks, then two comparisons per landmark.
+        """
+        heights = landmarks[:, 2] - self.config.camera_height
+        key = id(cam)
+        if self._fixed_landmarks is None or key not in self._bounds:
+            self._bounds[key] = cam.visible_radius_bounds(heights)
+        bounds = self._bounds[key]
+        if bounds is None:  # tilted, off-axis or concave: the exact test
+            p_cam = world_to_camera(landmarks, pose, self.config.camera_height, validate=False)
+            return int(np.count_nonzero(cam.visible(p_cam, validate=False)))
+        rho = np.hypot(landmarks[:, 0] - pose[0], landmarks[:, 1] - pose[1])
+        return int(np.count_nonzero((rho > bounds[0]) & (rho < bounds[1])))
+
     def _pose(self, spec: Any, room: np.ndarray, rng: np.random.Generator) -> np.ndarray:
         if isinstance(spec, PoseRange):
             return spec.sample(rng)
@@ -111,7 +136,8 @@ class Scenario:
     def _landmarks(self, room: np.ndarray, rng: np.random.Generator) -> np.ndarray:
         spec = self.config.random_landmarks
         if spec is None:
-            return np.array(self.config.landmarks, dtype=np.float64)
+            assert self._fixed_landmarks is not None
+            return self._fixed_landmarks.copy()
         # a point on the perimeter, uniform in arc length, then a height
         w, d = room
         u = rng.uniform(0.0, 2.0 * (w + d), spec.count)
@@ -173,9 +199,9 @@ class Scenario:
             if not (c.min_start_goal_distance <= dist <= c.max_start_goal_distance):
                 continue
             need = c.min_visible_at_goal
-            if self.visible(goal, landmarks, self.goal_camera).sum() < need:
+            if self._visible_count(goal, landmarks, self.goal_camera) < need:
                 continue
-            if self.visible(start, landmarks).sum() < need:
+            if self._visible_count(start, landmarks, self.camera) < need:
                 continue
             return Episode(task, room, landmarks, start, goal)
         raise ValueError(
@@ -189,7 +215,9 @@ class Scenario:
 
         This is the only 3D knowledge the paper's controller may use (Section 4.1).
         """
-        p = world_to_camera(episode.landmarks, episode.goal, self.config.camera_height)
+        p = world_to_camera(
+            episode.landmarks, episode.goal, self.config.camera_height, validate=False
+        )
         return self.config.depth_scale * np.hypot(p[:, 0], p[:, 1])
 
 
