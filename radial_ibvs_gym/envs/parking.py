@@ -446,7 +446,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         if camera.imperfections.any:
             return None
         if self.scenario.config.random_landmarks is not None:
-            return camera.visible_radius_bounds(heights)  # type: ignore[no-any-return]
+            return camera.visible_radius_bounds(heights)
         if which not in self._bounds_cache:
             self._bounds_cache[which] = camera.visible_radius_bounds(heights)
         return self._bounds_cache[which]
