@@ -267,6 +267,8 @@ class PymunkFleet(Fleet):
         # two buffers: one pymunk fills (its array grows as needed), one that only points at
         # our numpy array (set_float_buf); filling the latter would realloc numpy's memory
         self._buffer, self._writer = pymunk.batch.Buffer(), pymunk.batch.Buffer()
+        self._out: Array | None = None  # the velocities written each sub-step (writer's array)
+        self._poses_cache: Array | None = None
         pymunk.batch.get_space_bodies(space, pymunk.batch.BodyFields.BODY_ID, self._buffer)
         ids = np.frombuffer(self._buffer.int_buf(), dtype=np.uintp)
         expected = [b.id for pair in zip(self._bodies, self._controls, strict=True) for b in pair]
@@ -278,19 +280,17 @@ class PymunkFleet(Fleet):
 
     @property
     def poses(self) -> Array:  # noqa: D102
-        self._buffer.clear()
-        fields = self._batch.BodyFields.POSITION | self._batch.BodyFields.ANGLE
-        self._batch.get_space_bodies(self.space, fields, self._buffer)
-        data = np.frombuffer(self._buffer.float_buf(), dtype=np.float64).reshape(-1, 3)
-        robot = data[0 : 2 * self.n : 2]
-        return np.stack(
-            [
-                robot[:, 0] - self.offsets[:, 0],
-                robot[:, 1] - self.offsets[:, 1],
-                wrap_angle(robot[:, 2]),
-            ],
-            axis=-1,
-        )
+        if self._poses_cache is None:  # read from pymunk once per step or reset
+            self._buffer.clear()
+            fields = self._batch.BodyFields.POSITION | self._batch.BodyFields.ANGLE
+            self._batch.get_space_bodies(self.space, fields, self._buffer)
+            data = np.frombuffer(self._buffer.float_buf(), dtype=np.float64).reshape(-1, 3)
+            robot = data[0 : 2 * self.n : 2]
+            poses = np.empty((self.n, 3))
+            poses[:, :2] = robot[:, :2] - self.offsets
+            poses[:, 2] = wrap_angle(robot[:, 2])
+            self._poses_cache = poses
+        return self._poses_cache.copy()
 
     def _build_walls(self, i: int, room: Array) -> None:
         pymunk = self._pymunk
@@ -319,6 +319,7 @@ class PymunkFleet(Fleet):
         self._walls[i] = shapes
 
     def _place(self, idx: NDArray[np.intp], rooms: Array, poses: Array) -> None:
+        self._poses_cache = None
         for k, i in enumerate(idx.tolist()):
             self._build_walls(i, rooms[k])
             position = (
@@ -350,22 +351,30 @@ class PymunkFleet(Fleet):
         touching = self._contact["touching"]
         touching[:] = False
         batch, buffer, writer = self._batch, self._buffer, self._writer
+        cos, sin = np.empty(self.n), np.empty(self.n)
         space, h = self.space, self.physics_dt
         controls = slice(1, 2 * self.n, 2)  # rows of the control bodies (robots: even rows)
+        robots = slice(0, 2 * self.n, 2)
+        out = self._out
         for _ in range(steps):
             buffer.clear()
             batch.get_space_bodies(space, self._read, buffer)
             # per body: angle, velocity x, y, angular velocity; the robots and their control
             # bodies first (in the order added), then the static bodies
             data = np.frombuffer(buffer.float_buf(), dtype=np.float64).reshape(-1, 4)
-            heading = data[0 : 2 * self.n : 2, 0] + half  # the robots' mid-step headings
-            out = data[:, 1:].copy()  # every other body's velocity is written back unchanged
-            out[controls, 0] = v * np.cos(heading)
-            out[controls, 1] = v * np.sin(heading)
+            if out is None or len(out) != len(data):  # the static body joined the space
+                out = self._out = np.empty((len(data), 3))
+                writer.set_float_buf(out.reshape(-1))  # writer points at `out`, never grows it
+            out[:] = data[:, 1:]  # every other body's velocity is written back unchanged
+            heading = data[robots, 0] + half  # the robots' mid-step headings
+            np.cos(heading, out=cos)
+            np.sin(heading, out=sin)
+            out[controls, 0] = v * cos
+            out[controls, 1] = v * sin
             out[controls, 2] = omega
-            writer.set_float_buf(out.reshape(-1))  # writer borrows `out`, never grows it
             batch.set_space_bodies(space, self._write, writer)
             space.step(h)
+        self._poses_cache = None
         return self.poses, touching.copy()
 
 
