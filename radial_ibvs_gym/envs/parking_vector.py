@@ -263,8 +263,12 @@ class ParkingVectorEnv(VectorEnv):
         if resetting is not None and resetting.any():
             command[resetting] = 0.0  # ignored: these envs are reset below
         poses, collision = self.fleet.step(command, t.control_dt)
-        everyone = np.arange(n)
-        self._observe(poses, everyone)
+        if resetting is not None and resetting.any():
+            # the envs being reset do not observe: an imperfect camera's noise would use up
+            # their generators, which their reset must find as SyncVectorEnv leaves them
+            self._observe(poses, np.flatnonzero(~resetting))
+        else:
+            self._observe(poses, np.arange(n))
         now = logic.pose_errors(poses.T, self._goals.T)
         n_visible = self._visible.sum(axis=1)
         success, lost, terminated = logic.episode_end(
