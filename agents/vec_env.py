@@ -49,10 +49,19 @@ class NativeVecEnv(VecEnv):
         self._actions: np.ndarray | None = None
 
     def reset(self) -> Any:
-        """Reset every env (with the seeds of :meth:`seed`, once) and return the observations."""
+        """Reset every env and return the observations.
+
+        The seeds of :meth:`seed` and the options of ``set_options`` apply once.
+        """
         seeds = [s if s is None else int(s) for s in self._seeds]
-        obs, info = self.env.reset(seed=seeds if any(s is not None for s in seeds) else None)
+        options = self._options[0] if self._options else {}
+        if any(o != options for o in self._options):
+            raise ValueError("the native vector env takes one set of reset options for all envs")
+        obs, info = self.env.reset(
+            seed=seeds if any(s is not None for s in seeds) else None, options=options or None
+        )
         self._reset_seeds()
+        self._reset_options()
         self.reset_infos = _split(info, self.num_envs)
         return obs
 

@@ -303,3 +303,15 @@ def test_make_vec_env_trains_ppo_under_vec_normalize() -> None:
     assert venv.obs_rms["points"].count > 256  # the statistics saw every env's observations
     with pytest.raises(ValueError, match="no native vector env"):
         make_vec_env("RadialIBVS/ParkingImage-v0", 2)
+
+
+def test_make_vec_env_applies_one_set_of_reset_options_and_refuses_per_env_ones() -> None:
+    from agents import make_vec_env
+
+    venv = make_vec_env("RadialIBVS/Parking-v0", 2, seed=0, monitor=False, physics="kinematic")
+    venv.set_options({"task": 2})
+    venv.reset()
+    assert [info["task"] for info in venv.reset_infos] == [2, 2]
+    venv.set_options([{"task": 1}, {"task": 2}])
+    with pytest.raises(ValueError, match="one set of reset options"):
+        venv.reset()
