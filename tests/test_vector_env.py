@@ -79,7 +79,7 @@ def test_native_equals_sync_on_the_kinematic_backend(env_id: str, scenario: str,
     assert ends > 0  # the autoreset path ran
 
 
-@pytest.mark.parametrize("scenario", ["paper-sim", "random"])
+@pytest.mark.parametrize("scenario", ["paper-sim", "paper-lab", "random"])
 def test_native_equals_sync_on_pymunk_within_the_stated_tolerance(scenario: str) -> None:
     kwargs = {"scenario": scenario, "max_episode_steps": 90}
     assert _run_both("RadialIBVS/Parking-v0", 3, 250, "next_step", PYMUNK_TOL, **kwargs)
