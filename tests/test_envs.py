@@ -382,3 +382,44 @@ def test_precision_shaping_is_the_difference_of_a_log_potential() -> None:
     assert default.step(np.zeros(2, np.float32))[-1]["reward_terms"]["precision"] == 0.0
     with pytest.raises(ValueError, match="w_precision must be finite and >= 0"):
         gym.make("RadialIBVS/Parking-v0", w_precision=float("nan"))
+
+
+# --- max_landmarks: one observation space for every scene ---------------------------------------
+
+
+def test_max_landmarks_pads_every_scene_to_one_observation_space() -> None:
+    kwargs = {"obs_mode": "features", "goal_depths": True, "privileged": True}
+    spaces_seen = []
+    for scenario in ("paper-sim", "paper-lab", "random"):
+        plain = gym.make("RadialIBVS/Parking-v0", scenario=scenario, **kwargs)
+        padded = gym.make("RadialIBVS/Parking-v0", scenario=scenario, max_landmarks=16, **kwargs)
+        spaces_seen.append(padded.observation_space)
+        a, _ = plain.reset(seed=3)
+        b, _ = padded.reset(seed=3)
+        n = len(a["visible"])
+        assert padded.observation_space.contains(b)
+        np.testing.assert_array_equal(b["landmark_mask"], [1.0] * n + [0.0] * (16 - n))
+        for key, width in (("points", 2), ("goal_points", 2), ("visible", 1), ("depths", 1)):
+            np.testing.assert_array_equal(b[key][: width * n], a[key])
+            assert (b[key][width * n :] == 0).all()
+        slots = padded.unwrapped.slots
+        np.testing.assert_array_equal(b["c_error"][slots.pair_slots], a["c_error"])
+        assert np.count_nonzero(b["c_error"]) == np.count_nonzero(a["c_error"])
+        np.testing.assert_array_equal(b["alpha_m_error"], a["alpha_m_error"])
+    assert spaces_seen[0] == spaces_seen[1] == spaces_seen[2]
+
+
+def test_max_landmarks_below_the_scene_is_a_clear_error() -> None:
+    with pytest.raises(ValueError, match="max_landmarks"):
+        gym.make("RadialIBVS/Parking-v0", scenario="paper-lab", max_landmarks=8)
+    with pytest.raises(ValueError, match="max_landmarks"):
+        gym.make("RadialIBVS/ParkingGoal-v0", max_landmarks=16)
+
+
+def test_the_ibvs_parks_with_padded_observations() -> None:
+    from agents import IBVSPolicy
+    from agents.runner import make_env, run_episode
+
+    policy = IBVSPolicy()
+    env = make_env(policy, "paper-sim", {"task": 1, "physics": "kinematic", "max_landmarks": 16})
+    assert run_episode(policy, env, seed=0).success

@@ -22,6 +22,7 @@ from radial_ibvs_gym.geometry import wrap_angle
 
 __all__ = [
     "REWARD_TERMS",
+    "Slots",
     "camera_image",
     "episode_end",
     "feature_errors",
@@ -293,6 +294,7 @@ def observation(
     robot_pose: Array | None = None,
     goal_pose: Array | None = None,
     landmarks: NDArray[np.complex128] | None = None,
+    slots: Slots | None = None,
 ) -> dict[str, NDArray[Any]]:
     """Build the ``Parking-v0`` observation dict, in the spaces' dtypes (``(...)`` leading dims).
 
@@ -311,6 +313,10 @@ def observation(
         The privileged observation (``privileged=True``): poses ``(..., 3)`` and the landmarks
         ``(..., N)`` (complex ``x + i y``) whose horizontal distances to the robot become
         ``depths``.
+    slots
+        Pad the landmark axis to a fixed number of slots (:class:`Slots`, the env's
+        ``max_landmarks``), with zeros, and add ``landmark_mask`` (1 for the scene's
+        landmarks): one observation space for any scene with at most that many landmarks.
     """
     obs: dict[str, NDArray[Any]] = {
         "points": np.asarray(points, dtype=np.float32),
@@ -328,7 +334,59 @@ def observation(
         obs["goal_pose"] = np.asarray(goal_pose, dtype=np.float64).copy()
         position = pose[..., 0:1] + 1j * pose[..., 1:2]
         obs["depths"] = np.abs(landmarks - position).astype(np.float32)
-    return obs
+    return obs if slots is None else slots.pad(obs)
+
+
+class Slots:
+    """A fixed number of landmark slots: pads observations of ``N <= M`` landmarks to ``M``.
+
+    Parameters
+    ----------
+    n
+        The scene's landmarks ``N``.
+    m
+        The slots ``M`` (>= ``N``).
+    """
+
+    #: the keys with one entry per landmark, and how many values per entry
+    PER_LANDMARK: Mapping[str, int] = {
+        "points": 2,
+        "goal_points": 2,
+        "visible": 1,
+        "goal_depths": 1,
+        "depths": 1,
+    }
+
+    def __init__(self, n: int, m: int) -> None:
+        if not (2 <= n <= m):
+            raise ValueError(f"max_landmarks must be >= the scene's {n} landmarks, got {m!r}")
+        self.n, self.m = int(n), int(m)
+        i, j = np.triu_indices(n, 1)
+        # the position of pair (i, j) among the M slots' pairs, in row-major order
+        self.pair_slots = (i * (2 * m - i - 1)) // 2 + (j - i - 1)
+        self.mask = np.zeros(m, dtype=np.float32)
+        self.mask[:n] = 1.0
+
+    def pad(self, obs: dict[str, NDArray[Any]]) -> dict[str, NDArray[Any]]:
+        """Return ``obs`` with its landmark axes padded to ``M`` and ``landmark_mask`` added."""
+        out: dict[str, NDArray[Any]] = {}
+        for key, value in obs.items():
+            width = self.PER_LANDMARK.get(key)
+            if width is not None:
+                padded = np.zeros((*value.shape[:-1], width * self.m), dtype=value.dtype)
+                padded[..., : width * self.n] = value
+                out[key] = padded
+            elif key == "c_error":
+                pairs = self.m * (self.m - 1) // 2
+                padded = np.zeros((*value.shape[:-1], pairs), dtype=value.dtype)
+                padded[..., self.pair_slots] = value
+                out[key] = padded
+            else:
+                out[key] = value
+        out["landmark_mask"] = np.broadcast_to(
+            self.mask, (*obs["visible"].shape[:-1], self.m)
+        ).copy()
+        return out
 
 
 def goal_observation(

@@ -95,7 +95,11 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     3D knowledge the paper's IBVS uses. With ``privileged=True`` the true ``robot_pose`` and
     ``goal_pose`` ``(x, y, yaw)`` (metres, radians, world frame) and the current true
     ``depths`` ``(N,)`` (metres) are added: for the pose oracle and the classic IBVS variants,
-    never for a vision-based policy.
+    never for a vision-based policy. With ``max_landmarks=M`` every per-landmark entry is padded
+    with zeros to ``M`` slots (``c_error`` to the ``M (M - 1) / 2`` pairs, each pair at its
+    place among the slots' pairs) and ``landmark_mask`` ``Box(0, 1, (M,))`` marks the scene's
+    landmarks: one observation space for every scene with at most ``M`` landmarks, so one
+    learned model runs in all of them.
 
     ## Detected points
     With ``measurement="detected"`` the points come from images, as in the paper's lab
@@ -149,6 +153,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | ``success_position_m`` / ``success_heading_deg`` | ``0.02`` / ``2.0`` | success tolerances |
     | ``min_visible`` | ``3`` | fewer visible landmarks terminate the episode |
     | ``terminate_on_collision`` | ``True`` | |
+    | ``max_landmarks`` | ``None`` | landmark slots: pad to this many, add ``landmark_mask`` |
     | ``**scenario_overrides`` | | scenario keys, e.g. ``depth_scale=1.3`` |
 
     ```python
@@ -186,6 +191,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         success_heading_deg: float = 2.0,
         min_visible: int = 3,
         terminate_on_collision: bool = True,
+        max_landmarks: int | None = None,
         w_position: float = 1.0,
         w_heading: float = 0.3,
         w_precision: float = 0.0,
@@ -272,18 +278,21 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         else:  # wheel angular speeds, full scale = the wheel speed of the top linear speed
             self._scale = (self.robot.max_linear_speed / self.robot.wheel_radius,) * 2
         self._pairs = pair_indices(n)
+        #: fixed landmark slots (``max_landmarks``), or None: the observation has N landmarks
+        self.slots = None if max_landmarks is None else logic.Slots(n, max_landmarks)
+        k = n if max_landmarks is None else int(max_landmarks)  # landmark entries observed
 
         self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
         obs_spaces: dict[str, spaces.Space[Any]] = {
-            "points": spaces.Box(-1.0, 1.0, (2 * n,), np.float32),
-            "goal_points": spaces.Box(-1.0, 1.0, (2 * n,), np.float32),
-            "visible": spaces.Box(0.0, 1.0, (n,), np.float32),
+            "points": spaces.Box(-1.0, 1.0, (2 * k,), np.float32),
+            "goal_points": spaces.Box(-1.0, 1.0, (2 * k,), np.float32),
+            "visible": spaces.Box(0.0, 1.0, (k,), np.float32),
         }
         if obs_mode == "features":
-            m = len(self._pairs[0])
+            m = k * (k - 1) // 2
             obs_spaces["c_error"] = spaces.Box(-2.0, 2.0, (m,), np.float32)
             obs_spaces["alpha_m_error"] = spaces.Box(-np.pi, np.pi, (1,), np.float32)
-        depth_space = spaces.Box(0.0, 1e3, (n,), np.float32)  # metres
+        depth_space = spaces.Box(0.0, 1e3, (k,), np.float32)  # metres
         if goal_depths:
             obs_spaces["goal_depths"] = depth_space
         if privileged:
@@ -292,6 +301,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             obs_spaces["robot_pose"] = pose_space
             obs_spaces["goal_pose"] = pose_space
             obs_spaces["depths"] = depth_space
+        if self.slots is not None:
+            obs_spaces["landmark_mask"] = spaces.Box(0.0, 1.0, (k,), np.float32)
         self.observation_space = spaces.Dict(obs_spaces)  # type: ignore[assignment]
 
         self._renderer: Any = None
@@ -585,6 +596,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             robot_pose=pose,
             goal_pose=self._setup.episode.goal if self.privileged else None,
             landmarks=self._setup.landmarks_c if self.privileged else None,
+            slots=self.slots,
         )
 
     def _info(

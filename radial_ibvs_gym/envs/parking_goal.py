@@ -33,6 +33,8 @@ class ParkingGoalEnv(ParkingEnv):
 
     def __init__(self, *args: Any, goal_reward_power: float = 0.5, **kwargs: Any) -> None:
         kwargs.setdefault("obs_mode", "points")
+        if kwargs.get("max_landmarks") is not None:
+            raise ValueError("ParkingGoal-v0 does not take max_landmarks yet; use Parking-v0")
         if kwargs["obs_mode"] != "points":
             raise ValueError("ParkingGoal-v0 supports obs_mode='points' only")
         super().__init__(*args, **kwargs)

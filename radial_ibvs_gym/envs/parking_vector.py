@@ -391,6 +391,7 @@ class ParkingVectorEnv(VectorEnv):
             robot_pose=self.fleet.poses[idx] if t.privileged else None,
             goal_pose=self._goals[idx] if t.privileged else None,
             landmarks=self._landmarks_c[idx] if t.privileged else None,
+            slots=t.slots,
         )
 
     def _refresh(self, obs: dict[str, NDArray[Any]], idx: NDArray[np.intp]) -> None:
