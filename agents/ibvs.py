@@ -69,6 +69,10 @@ class IBVSPolicy:
     compensation
         Sign of eq. (30)'s compensation terms: ``"derived"`` (correct) or ``"printed"`` (the
         paper's misprint, for comparison only).
+    allow_backward
+        Drive backwards when the goal is behind the robot (nav2's graceful controller's
+        ``allow_backward``; :func:`agents.ibvs_core.robot_command`). The paper's law drives
+        forwards only (the default).
 
     Examples
     --------
@@ -90,6 +94,7 @@ class IBVSPolicy:
         stop_heading: float = math.radians(0.1),
         rotate_radius: float = 0.02,
         compensation: Literal["derived", "printed"] = "derived",
+        allow_backward: bool = False,
     ) -> None:
         if variant not in VARIANTS:
             raise ValueError(f"unknown IBVS variant {variant!r}; valid: {list(VARIANTS)}")
@@ -111,6 +116,7 @@ class IBVSPolicy:
         self.stop_radius, self.stop_heading = float(stop_radius), float(stop_heading)
         self.rotate_radius = float(rotate_radius)
         self.compensation: Literal["derived", "printed"] = compensation
+        self.allow_backward = bool(allow_backward)
         self._goal_cache: OrderedDict[bytes, GoalModel | None] = OrderedDict()
 
     @property
@@ -121,7 +127,11 @@ class IBVSPolicy:
         return {"goal_depths": True}
 
     def __repr__(self) -> str:
-        return f"IBVSPolicy(variant={self.variant!r}, lam={self.lam}, k1={self.k1}, k2={self.k2})"
+        backward = ", allow_backward=True" if self.allow_backward else ""
+        return (
+            f"IBVSPolicy(variant={self.variant!r}, lam={self.lam}, k1={self.k1}, k2={self.k2}"
+            f"{backward})"
+        )
 
     # --- SB3 interface ---------------------------------------------------------------------------
     def predict(
@@ -269,6 +279,6 @@ class IBVSPolicy:
         v_max, w_max = self.robot.max_linear_speed, self.robot.max_angular_speed
         v_l, omega = park_command(
             v, gamma, self.lam, self.k1, self.k2, v_max, w_max,
-            self.stop_radius, self.stop_heading, self.rotate_radius,
+            self.stop_radius, self.stop_heading, self.rotate_radius, self.allow_backward,
         )  # fmt: skip
         return v_l / v_max, omega / w_max

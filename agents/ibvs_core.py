@@ -134,6 +134,7 @@ def robot_command(
     k2: float = 12.0,
     v_max: float = 1.2,
     omega_max: float = 5.235987755982989,
+    allow_backward: bool = False,
 ) -> tuple[float, float]:
     """Robot speeds ``(v_l, omega)`` from the IBVS camera velocity, through eq. (38).
 
@@ -156,6 +157,11 @@ def robot_command(
         Gains of eq. (38) (the paper's simulations: 4 and 12).
     v_max, omega_max
         Speed limits, m/s and rad/s.
+    allow_backward
+        Drive backwards when the virtual target is behind the robot (``v_x < 0``), as nav2's
+        graceful controller does with ``allow_backward``: the law of eq. (38) with the line
+        of sight flipped (:func:`~agents.smooth_control.ego_polar` ``backward=True``) and a
+        negative ``v_l``. Off (forward only, the paper's law) by default.
 
     Returns
     -------
@@ -170,9 +176,12 @@ def robot_command(
     r = v_l / lam
     delta = float(np.arctan2(v[1], v[0]))
     target = (r * np.cos(delta), r * np.sin(delta), gamma)
-    kappa = float(curvature(*ego_polar(target), k1, k2))
+    reverse = allow_backward and target[0] < 0.0  # the target is behind the robot
+    kappa = float(curvature(*ego_polar(target, backward=reverse), k1, k2))
+    if reverse:  # the law of SmoothControlLaw.velocity(..., backward=True)
+        kappa, v_l = -kappa, -v_l
     omega = kappa * v_l
-    factor = max(1.0, v_l / v_max, abs(omega) / omega_max)
+    factor = max(1.0, abs(v_l) / v_max, abs(omega) / omega_max)
     return v_l / factor, omega / factor
 
 
@@ -187,6 +196,7 @@ def park_command(
     stop_radius: float,
     stop_heading: float,
     rotate_radius: float,
+    allow_backward: bool = False,
 ) -> tuple[float, float]:
     """:func:`robot_command` with the stop rule and the final rotation around it.
 
@@ -208,6 +218,8 @@ def park_command(
         Metres.
     stop_heading
         Radians.
+    allow_backward
+        As in :func:`robot_command`.
 
     Returns
     -------
@@ -219,4 +231,4 @@ def park_command(
         return 0.0, 0.0
     if r < rotate_radius:  # final approach: the forward part of v, and turn to the goal heading
         return float(v[0]), min(max(lam * gamma, -omega_max), omega_max)
-    return robot_command(v, gamma, lam, k1, k2, v_max, omega_max)
+    return robot_command(v, gamma, lam, k1, k2, v_max, omega_max, allow_backward)

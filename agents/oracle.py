@@ -47,6 +47,9 @@ class PoseOracle:
         :func:`agents.ibvs_core.park_command` (drive the forward part, turn to the goal heading).
     law
         Optional nav2-style speed law (its ``v_max``/``omega_max`` should be the robot's).
+    allow_backward
+        Drive backwards when the goal is behind the robot (nav2's ``allow_backward``); the
+        paper's law drives forwards only (the default).
     """
 
     def __init__(
@@ -59,6 +62,7 @@ class PoseOracle:
         stop_heading: float = math.radians(0.1),
         rotate_radius: float = 0.02,
         law: SmoothControlLaw | None = None,
+        allow_backward: bool = False,
     ) -> None:
         for name, value in (("lam", lam), ("k1", k1), ("k2", k2)):
             if not (math.isfinite(value) and value > 0):
@@ -68,9 +72,11 @@ class PoseOracle:
         self.stop_radius, self.stop_heading = float(stop_radius), float(stop_heading)
         self.rotate_radius = float(rotate_radius)
         self.law = law
+        self.allow_backward = bool(allow_backward)
 
     def __repr__(self) -> str:
-        return f"PoseOracle(lam={self.lam}, k1={self.k1}, k2={self.k2}, law={self.law!r})"
+        backward = ", allow_backward=True" if self.allow_backward else ""
+        return f"PoseOracle(lam={self.lam}, k1={self.k1}, k2={self.k2}, law={self.law!r}{backward})"
 
     @property
     def env_kwargs(self) -> dict[str, bool]:
@@ -126,11 +132,12 @@ class PoseOracle:
             r = math.hypot(dx, dy)
             if r < self.stop_radius and abs(gamma) < self.stop_heading:
                 return 0.0, 0.0
-            rr, phi, delta = ego_polar(goal, pose)
-            v, omega = self.law.velocity(float(rr), float(phi), float(delta))
+            reverse = self.allow_backward and target[0] < 0.0  # the goal is behind
+            rr, phi, delta = ego_polar(goal, pose, backward=reverse)
+            v, omega = self.law.velocity(float(rr), float(phi), float(delta), backward=reverse)
         else:
             v, omega = park_command(
                 self.lam * target, gamma, self.lam, self.k1, self.k2, v_max, w_max,
-                self.stop_radius, self.stop_heading, self.rotate_radius,
+                self.stop_radius, self.stop_heading, self.rotate_radius, self.allow_backward,
             )  # fmt: skip
         return v / v_max, omega / w_max

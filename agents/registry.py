@@ -71,6 +71,8 @@ _FACTORIES: dict[str, Callable[..., Policy]] = {
     "ibvs-mean": lambda **kw: IBVSPolicy("mean", **kw),
     "ibvs-no-frame-change": lambda **kw: IBVSPolicy("no-frame-change", **kw),
     "oracle": lambda **kw: PoseOracle(**kw),
+    "ibvs-backward": lambda **kw: IBVSPolicy("paper", allow_backward=True, **kw),
+    "oracle-backward": lambda **kw: PoseOracle(allow_backward=True, **kw),
     "random": lambda **kw: RandomPolicy(**kw),
 }
 POLICY_NAMES = tuple(_FACTORIES)

@@ -192,6 +192,8 @@ def test_registry_builds_every_contract_name_and_rejects_unknown_ones() -> None:
         "ibvs-mean",
         "ibvs-no-frame-change",
         "oracle",
+        "ibvs-backward",
+        "oracle-backward",
         "random",
     }
     for name in POLICY_NAMES:

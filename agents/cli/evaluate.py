@@ -15,7 +15,8 @@ def add_parser(sub: Any) -> None:
         "evaluate",
         help="run one policy for N seeded episodes; print a summary, write JSON rows",
         description=(
-            "Run a policy (ibvs, ibvs-current, ibvs-mean, ibvs-no-frame-change, oracle, random, "
+            "Run a policy (ibvs, ibvs-current, ibvs-mean, ibvs-no-frame-change, oracle, "
+            "ibvs-backward, oracle-backward, random, "
             "a shipped model such as ppo-paper-sim, or a model directory) on a scenario for N "
             "episodes seeded S, S+1, ...; print the success rate (95%% Wilson interval) and the "
             "errors; --json writes one row per episode."
