@@ -134,7 +134,6 @@ class ParkingVectorEnv(VectorEnv):
         nl = self.scenario.n_landmarks
         self._rngs: list[np.random.Generator | None] = [None] * n
         self._setups: list[EpisodeSetup | None] = [None] * n
-        self._landmarks = np.zeros((n, nl, 3))
         self._landmarks_c = np.zeros((n, nl), dtype=np.complex128)
         self._bounds = np.zeros((2, n, nl))  # current camera: visible distance interval
         self._goals = np.zeros((n, 3))
@@ -207,7 +206,6 @@ class ParkingVectorEnv(VectorEnv):
             assert rng is not None
             setup = t.setup_episode(rng, task, options)
             episode = setup.episode
-            self._landmarks[i] = episode.landmarks
             self._landmarks_c[i] = setup.landmarks_c
             if self._fast:
                 bounds = setup.radius_bounds["current"]
