@@ -31,6 +31,7 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
+from agents.ibvs_batch import ibvs_twist_batch, park_command_batch
 from agents.ibvs_core import GoalModel, ibvs_twist, park_command
 from radial_ibvs_gym.features import L_alpha_m, L_cij, alpha_m, c_ij
 from radial_ibvs_gym.geometry import wrap_angle_scalar
@@ -176,6 +177,8 @@ class IBVSPolicy:
             )
         points = np.asarray(observation["points"], dtype=np.float64)
         batched = points.ndim == 2
+        if batched and self.variant in ("paper", "no-frame-change"):
+            return self._predict_batch(observation), state
         rows = {
             k: np.asarray(v).reshape(len(points) if batched else 1, -1)
             for k, v in observation.items()
@@ -185,6 +188,19 @@ class IBVSPolicy:
             dtype=np.float32,
         ).reshape(-1, 2)
         return (actions if batched else actions[0]), state
+
+    def _predict_batch(self, obs: dict[str, np.ndarray]) -> np.ndarray:
+        """Act for a batch in one vectorised pass (:mod:`agents.ibvs_batch`)."""
+        v, gamma, _ = ibvs_twist_batch(
+            obs["points"], obs["goal_points"], obs["goal_depths"], obs["visible"],
+            self.lam, self.compensation, frame_change=self.variant == "paper",
+        )  # fmt: skip
+        v_max, w_max = self.robot.max_linear_speed, self.robot.max_angular_speed
+        v_l, omega = park_command_batch(
+            v, gamma, self.lam, self.k1, self.k2, v_max, w_max,
+            self.stop_radius, self.stop_heading, self.rotate_radius, self.allow_backward,
+        )  # fmt: skip
+        return np.stack([v_l / v_max, omega / w_max], axis=-1).astype(np.float32)
 
     # --- one observation -------------------------------------------------------------------------
     def _act(self, obs: dict[str, np.ndarray]) -> tuple[float, float]:

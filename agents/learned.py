@@ -123,7 +123,7 @@ def shipped_models() -> list[str]:
     return sorted(p.name for p in MODELS_DIR.iterdir() if (p / "model.zip").is_file())
 
 
-def load(name_or_path: str | Path) -> LearnedPolicy:
+def load(name_or_path: str | Path) -> Any:
     """Load a shipped model by name (e.g. ``"ppo-paper-sim"``) or a model directory.
 
     Parameters
@@ -131,6 +131,12 @@ def load(name_or_path: str | Path) -> LearnedPolicy:
     name_or_path
         A name from :func:`shipped_models`, or a directory with ``model.zip`` and
         ``metadata.json`` (what ``radial-ibvs train`` writes), or a ``model.zip`` inside one.
+
+    Returns
+    -------
+    LearnedPolicy or agents.residual.ResidualPolicy
+        The latter when the metadata has a ``residual`` entry (a correction to an analytic
+        policy, which it builds too).
 
     Raises
     ------
@@ -169,7 +175,13 @@ def load(name_or_path: str | Path) -> LearnedPolicy:
     norm_path = directory / "normalization.npz"
     normalization = _load_normalization(norm_path) if norm_path.is_file() else None
     name = str(name_or_path) if not Path(name_or_path).exists() else directory.name
-    return LearnedPolicy(model, metadata, normalization, name)
+    learned = LearnedPolicy(model, metadata, normalization, name)
+    if metadata.get("residual") is not None:
+        from agents.residual import ResidualConfig, ResidualPolicy
+
+        residual = ResidualConfig.from_mapping(metadata["residual"], f"{meta_path}: residual")
+        return ResidualPolicy(learned, residual)
+    return learned
 
 
 def _load_normalization(path: Path) -> dict[str, Any]:

@@ -13,8 +13,7 @@ from typing import Any, Protocol
 
 import numpy as np
 
-from agents.ibvs import IBVSPolicy
-from agents.oracle import PoseOracle
+from agents.analytic import ANALYTIC_POLICIES
 
 __all__ = ["POLICY_NAMES", "Policy", "RandomPolicy", "make_policy"]
 
@@ -66,13 +65,7 @@ class RandomPolicy:
 
 
 _FACTORIES: dict[str, Callable[..., Policy]] = {
-    "ibvs": lambda **kw: IBVSPolicy("paper", **kw),
-    "ibvs-current": lambda **kw: IBVSPolicy("current", **kw),
-    "ibvs-mean": lambda **kw: IBVSPolicy("mean", **kw),
-    "ibvs-no-frame-change": lambda **kw: IBVSPolicy("no-frame-change", **kw),
-    "oracle": lambda **kw: PoseOracle(**kw),
-    "ibvs-backward": lambda **kw: IBVSPolicy("paper", allow_backward=True, **kw),
-    "oracle-backward": lambda **kw: PoseOracle(allow_backward=True, **kw),
+    **ANALYTIC_POLICIES,
     "random": lambda **kw: RandomPolicy(**kw),
 }
 POLICY_NAMES = tuple(_FACTORIES)

@@ -29,6 +29,7 @@ from stable_baselines3.common.vec_env import VecNormalize
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from agents.io import write_json
 from agents.plotting import save_figure
+from agents.residual import ResidualVecEnv
 from agents.zoo import TrainConfig
 
 __all__ = ["ALGOS", "export_model", "save_normalization", "train"]
@@ -159,6 +160,8 @@ def train(
         _make_venv(config.env_id, n, s, config.env_kwargs)
         for n, s in ((config.n_envs, seed), (1, config.eval_seed))
     )
+    if config.residual is not None:
+        venv, eval_env = (ResidualVecEnv(v, config.residual) for v in (venv, eval_env))
     if config.normalize is not None:
         venv = VecNormalize(venv, **config.normalize)
         eval_env = VecNormalize(eval_env, training=False, norm_reward=False)
@@ -219,6 +222,7 @@ def train(
         "env_id": config.env_id,
         "env_kwargs": _jsonable(config.env_kwargs),
         "seed": seed,
+        **({"residual": config.residual.as_dict()} if config.residual else {}),
         "total_timesteps": int(model.num_timesteps),
         "command": command or " ".join(sys.argv),
         "config": _jsonable(config.source),

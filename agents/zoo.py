@@ -17,11 +17,13 @@ from typing import Any
 
 import yaml
 
+from agents.residual import ResidualConfig
+
 __all__ = ["TrainConfig", "load_train_config", "parse_kwargs_string"]
 
 #: rl-zoo3's keys that are not the algorithm's keyword arguments
 _ZOO_KEYS = {"n_envs", "n_timesteps", "policy", "normalize", "policy_kwargs", "env_wrapper"}
-_META_KEYS = {"env_kwargs", "eval_freq", "eval_episodes", "eval_seed"}
+_META_KEYS = {"env_kwargs", "eval_freq", "eval_episodes", "eval_seed", "residual"}
 
 
 @dataclass(frozen=True)
@@ -49,6 +51,9 @@ class TrainConfig:
     eval_freq, eval_episodes, eval_seed
         Evaluation every ``eval_freq`` env steps on ``eval_episodes`` held-out episodes seeded
         from ``eval_seed``.
+    residual
+        Train a correction to an analytic policy (:class:`agents.residual.ResidualConfig`),
+        or ``None`` for a policy from scratch.
     source
         The file and section it came from, and the raw section (for the model's metadata).
     """
@@ -64,6 +69,7 @@ class TrainConfig:
     eval_freq: int = 25_000
     eval_episodes: int = 20
     eval_seed: int = 10_000
+    residual: ResidualConfig | None = None
     source: dict[str, Any] = field(default_factory=dict)
 
 
@@ -146,6 +152,14 @@ def _positive_int(section: Mapping[str, Any], key: str, default: int, where: str
     return value
 
 
+def _residual(value: Any, where: str) -> ResidualConfig | None:
+    if value is None:
+        return None
+    if not isinstance(value, Mapping):
+        raise ValueError(f"{where} must be a mapping (base, scale), got {value!r}")
+    return ResidualConfig.from_mapping(value, where)
+
+
 def load_train_config(path: Path | str, env_id: str | None = None) -> TrainConfig:
     """Load and validate a training configuration.
 
@@ -221,5 +235,6 @@ def load_train_config(path: Path | str, env_id: str | None = None) -> TrainConfi
         eval_freq=_positive_int(meta, "eval_freq", 25_000, f"{path.name}[radial_ibvs_gym]"),
         eval_episodes=_positive_int(meta, "eval_episodes", 20, f"{path.name}[radial_ibvs_gym]"),
         eval_seed=int(meta.get("eval_seed", 10_000)),
+        residual=_residual(meta.get("residual"), f"{path.name}[radial_ibvs_gym].residual"),
         source={"file": str(path), "env_id": env_id, "section": section, "meta": meta},
     )

@@ -1,0 +1,38 @@
+"""The analytic policies by name: the IBVS variants and the pose oracle (no learning).
+
+:mod:`agents.registry` adds the random floor and the learned models to these;
+:mod:`agents.residual` takes its base policy from here.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from typing import Any
+
+from agents.ibvs import IBVSPolicy
+from agents.oracle import PoseOracle
+
+__all__ = ["ANALYTIC_POLICIES", "make_analytic"]
+
+ANALYTIC_POLICIES: dict[str, Callable[..., Any]] = {
+    "ibvs": lambda **kw: IBVSPolicy("paper", **kw),
+    "ibvs-current": lambda **kw: IBVSPolicy("current", **kw),
+    "ibvs-mean": lambda **kw: IBVSPolicy("mean", **kw),
+    "ibvs-no-frame-change": lambda **kw: IBVSPolicy("no-frame-change", **kw),
+    "oracle": lambda **kw: PoseOracle(**kw),
+    "ibvs-backward": lambda **kw: IBVSPolicy("paper", allow_backward=True, **kw),
+    "oracle-backward": lambda **kw: PoseOracle(allow_backward=True, **kw),
+}
+
+
+def make_analytic(name: str, **kwargs: Any) -> Any:
+    """Build an analytic policy by name (a key of :data:`ANALYTIC_POLICIES`).
+
+    Raises
+    ------
+    ValueError
+        For an unknown name (the message lists the valid ones).
+    """
+    if name not in ANALYTIC_POLICIES:
+        raise ValueError(f"unknown analytic policy {name!r}; valid: {list(ANALYTIC_POLICIES)}")
+    return ANALYTIC_POLICIES[name](**kwargs)
