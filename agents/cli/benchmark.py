@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import shutil
 from pathlib import Path
 from typing import Any
 
@@ -28,8 +29,30 @@ def add_parser(sub: Any) -> None:
         "--policies", nargs="+", help="default: the analytic policies and every shipped model"
     )
     parser.add_argument("--episodes", type=int, help="per suite variant (default: 200 random, 8)")
-    parser.add_argument("--workers", type=int, default=2, help="processes (default: %(default)s)")
-    parser.add_argument("--out", type=Path, default=Path("outputs/benchmark"), help="folder")
+    parser.add_argument(
+        "--workers",
+        type=int,
+        default=2,
+        help="local processes, or the CPUs of a private Ray instance (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--backend",
+        choices=("local", "ray"),
+        default="local",
+        help="local process pool, or one Ray task per 20-episode chunk (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--address",
+        help="Ray cluster to join: 'auto' or HOST:PORT (default: a private local instance)",
+    )
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=Path("outputs/benchmark"),
+        help="folder; each finished chunk is saved in OUT/chunks, and a rerun with the same "
+        "--out skips the chunks done (default: %(default)s)",
+    )
+    parser.add_argument("--fresh", action="store_true", help="discard OUT/chunks, run everything")
     parser.add_argument("--json", type=Path, help="also write the per-episode rows here")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
 
@@ -50,12 +73,19 @@ def run(args: argparse.Namespace) -> int:
     from agents.learned import shipped_models
 
     policies = args.policies or [*POLICY_NAMES, *shipped_models()]
+    chunks = Path(args.out) / "chunks"
+    if args.fresh and chunks.is_dir():
+        shutil.rmtree(chunks)
     results = run_benchmark(
         policies,
         args.suites or list(SUITES),
         episodes=args.episodes,
         workers=args.workers,
         progress=not args.no_progress,
+        backend=args.backend,
+        address=args.address,
+        store=chunks,
+        notify=print,
     )
     Console().print(rich_table(summary_rows(results)))
     for result in results:

@@ -1,6 +1,8 @@
 """``radial-ibvs benchmark``: every policy on the same suites, seeds and metrics.
 
-Jobs (one per policy and suite variant) run in parallel processes. Each episode gives a row
+Jobs (one per policy, suite variant and chunk of at most 20 seeded episodes) run in parallel
+processes or as Ray tasks (:mod:`agents.experiments.backends`), and each finished chunk can be
+saved at once, so that a rerun resumes (:mod:`agents.experiments.store`). Each episode gives a row
 (the JSON contract of ``--json`` plus ``variant``, control effort, smoothness and the start and
 goal poses); the summary gives, per policy and variant, the success rate with its 95 % Wilson
 interval, the median and 95th percentile of the final errors, the time and path to park, the
@@ -10,9 +12,7 @@ effort, smoothness, collisions and compute time per step.
 from __future__ import annotations
 
 import math
-import multiprocessing
-from collections.abc import Sequence
-from concurrent.futures import ProcessPoolExecutor, as_completed
+from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -20,8 +20,10 @@ import numpy as np
 from tqdm import tqdm  # text bars: no ipywidgets needed in Jupyter
 
 from agents import make_policy
+from agents.experiments.backends import LocalBackend, RayBackend, make_backend
 from agents.experiments.evaluate import summarise
 from agents.experiments.jobs import CHUNK, Job, JobResult, init_worker, run_job
+from agents.experiments.store import ChunkStore
 from agents.experiments.suites import suite_variants
 from agents.io import write_atomic, write_csv, write_json
 
@@ -42,8 +44,13 @@ def run_benchmark(
     episodes: int | None = None,
     workers: int = 1,
     progress: bool = True,
+    *,
+    backend: str | LocalBackend | RayBackend = "local",
+    address: str | None = None,
+    store: Path | str | None = None,
+    notify: Callable[[str], None] | None = None,
 ) -> list[JobResult]:
-    """Run every policy on every suite variant.
+    """Run every policy on every suite variant, in chunks of at most :data:`CHUNK` episodes.
 
     Parameters
     ----------
@@ -54,14 +61,32 @@ def run_benchmark(
     episodes
         Episodes per variant (default: the variant's own, 200 for ``random`` and 8 otherwise).
     workers
-        Parallel processes (1: run here).
+        Parallel processes (1: run here); for a private Ray instance, its CPUs.
     progress
         Show a progress bar.
+    backend
+        ``"local"`` (a process pool), ``"ray"`` (one Ray task per chunk, retried when its
+        worker dies), or a backend object (:mod:`agents.experiments.backends`).
+    address
+        Ray cluster address (``"auto"`` or ``"HOST:PORT"``); default: a private instance.
+    store
+        A folder where each finished chunk is saved at once
+        (:class:`~agents.experiments.store.ChunkStore`); the chunks already there are loaded,
+        not run again. ``None``: nothing is saved.
+    notify
+        Called with a line of text about resuming (e.g. ``print``).
+
+    Returns
+    -------
+    list of JobResult
+        One per policy and variant, its rows in seed order. The rows do not depend on the
+        backend, the workers or on resuming, except ``compute_us_per_step`` (a timing).
 
     Raises
     ------
     ValueError
-        For an unknown policy or suite (checked before anything runs).
+        For an unknown policy, suite or backend, or Ray missing (checked before anything
+        runs).
     """
     for name in policies:
         make_policy(name)  # fail early, with the valid names
@@ -76,23 +101,28 @@ def run_benchmark(
         for total in [episodes or variant.episodes]
         for first in range(0, total, CHUNK)
     ]
+    chunks = ChunkStore(store) if store is not None else None
+    results: list[JobResult | None] = [chunks.load(j) if chunks else None for j in jobs]
+    todo = [i for i, r in enumerate(results) if r is None]
+    if chunks is not None and notify is not None and len(todo) < len(jobs):
+        notify(
+            f"resuming: {len(jobs) - len(todo)} of {len(jobs)} chunks already done in "
+            f"{chunks.directory}, skipping them; {len(todo)} to run"
+        )
+    runner = make_backend(backend, workers, address) if isinstance(backend, str) else backend
     bar = tqdm(
-        total=sum(j.episodes for j in jobs), desc="benchmark", unit="ep", disable=not progress
+        total=sum(jobs[i].episodes for i in todo), desc="benchmark", unit="ep", disable=not progress
     )
-    results: list[JobResult | None] = [None] * len(jobs)
-    if workers == 1:
-        for i, job in enumerate(jobs):
-            results[i] = run_job(job)
-            bar.update(job.episodes)
-    else:
-        # spawn, not fork: torch (loaded here to check the models) hangs in forked children
-        context = multiprocessing.get_context("spawn")
-        with ProcessPoolExecutor(workers, mp_context=context, initializer=init_worker) as pool:
-            futures = {pool.submit(run_job, job): i for i, job in enumerate(jobs)}
-            for future in as_completed(futures):
-                results[futures[future]] = future.result()
-                bar.update(jobs[futures[future]].episodes)
-    bar.close()
+    try:
+        for k, result in runner.imap_unordered(run_job, [jobs[i] for i in todo], init_worker):
+            results[todo[k]] = result
+            if chunks is not None:
+                chunks.save(result)
+            bar.update(result.job.episodes)
+    finally:
+        bar.close()
+        if isinstance(backend, str):
+            runner.close()
     return _merge([r for r in results if r is not None])
 
 

@@ -1,0 +1,208 @@
+"""Where jobs run: a local process pool (the default) or a Ray cluster.
+
+Both backends take a module-level function and a list of arguments and yield ``(index,
+result)`` pairs as the jobs finish, so the caller can persist each result at once (a stop
+then loses at most the jobs in flight).
+
+Ray is optional (``pip install 'radial_ibvs_gym[ray]'``). Without ``--address`` the Ray
+backend starts a private single-machine instance whose servers listen on 127.0.0.1 only, with
+no dashboard and no usage statistics; with ``--address`` it joins the cluster at that address
+(``auto``: the one ``ray start`` left on this machine). Each job is a Ray task of one CPU that
+Ray retries when its worker dies (``max_retries``).
+"""
+
+from __future__ import annotations
+
+import multiprocessing
+import os
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from typing import Any
+
+__all__ = ["BACKENDS", "RAY_EXTRA", "LocalBackend", "RayBackend", "import_ray", "make_backend"]
+
+BACKENDS = ("local", "ray")
+#: what to install for the Ray backend
+RAY_EXTRA = "pip install 'radial_ibvs_gym[ray]'"
+
+
+def import_ray(local: bool = True) -> Any:
+    """Import Ray, configured as this project runs it.
+
+    Parameters
+    ----------
+    local
+        A private single-machine instance: its servers bind 127.0.0.1 only (Ray's own
+        single-machine mode, ``RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER=0``). Must be decided before
+        Ray is first imported.
+
+    Raises
+    ------
+    ValueError
+        When Ray is not installed; the message names the extra to install.
+    """
+    os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")  # nothing leaves the machine
+    # token authentication on, and said so explicitly: Ray's documented way to keep it on
+    # without its warning (https://docs.ray.io/en/latest/ray-security/token-auth.html)
+    os.environ.setdefault("RAY_AUTH_MODE", "token")
+    if local:
+        os.environ.setdefault("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER", "0")
+    try:
+        import ray
+    except ImportError:
+        raise ValueError(f"--backend ray needs Ray, which is not installed: {RAY_EXTRA}") from None
+    return ray
+
+
+class LocalBackend:
+    """Run jobs here (``workers=1``) or in a pool of ``workers`` spawned processes.
+
+    Parameters
+    ----------
+    workers
+        Parallel processes (>= 1).
+    """
+
+    name = "local"
+
+    def __init__(self, workers: int = 1) -> None:
+        if workers < 1:
+            raise ValueError(f"workers must be >= 1, got {workers!r}")
+        self.workers = workers
+
+    def __repr__(self) -> str:
+        return f"LocalBackend(workers={self.workers})"
+
+    def imap_unordered(
+        self,
+        fn: Callable[[Any], Any],
+        items: Sequence[Any],
+        initializer: Callable[[], None] | None = None,
+    ) -> Iterator[tuple[int, Any]]:
+        """Yield ``(index, fn(items[index]))`` as the jobs finish.
+
+        On an exception or Ctrl-C the jobs not started are cancelled and the error raised.
+        """
+        if self.workers == 1 or len(items) <= 1:
+            for i, item in enumerate(items):
+                yield i, fn(item)
+            return
+        # spawn, not fork: torch (loaded here to check the models) hangs in forked children
+        context = multiprocessing.get_context("spawn")
+        pool = ProcessPoolExecutor(self.workers, mp_context=context, initializer=initializer)
+        try:
+            futures: dict[Future[Any], int] = {pool.submit(fn, x): i for i, x in enumerate(items)}
+            pending = set(futures)
+            while pending:
+                done, pending = wait(pending, return_when=FIRST_COMPLETED)
+                for future in done:
+                    yield futures[future], future.result()
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)
+
+    def close(self) -> None:
+        """Nothing to release."""
+
+
+class RayBackend:
+    """Run each job as a Ray task (one CPU, retried when its worker dies).
+
+    Parameters
+    ----------
+    address
+        A running cluster (``"auto"`` or ``"HOST:PORT"``); ``None`` starts a private
+        single-machine instance listening on 127.0.0.1 only (and stops it on :meth:`close`).
+        Ignored when Ray is already initialised in this process.
+    num_cpus
+        CPUs of the private instance (default: all of this machine's).
+    max_retries
+        Retries of a task whose worker process died.
+    """
+
+    name = "ray"
+
+    def __init__(
+        self, address: str | None = None, num_cpus: int | None = None, max_retries: int = 3
+    ) -> None:
+        if max_retries < 0:
+            raise ValueError(f"max_retries must be >= 0, got {max_retries!r}")
+        self.ray = import_ray(local=address is None)
+        self.max_retries = max_retries
+        self._owner = not self.ray.is_initialized()
+        if self._owner:
+            if address is None:
+                self.ray.init(
+                    num_cpus=num_cpus,
+                    include_dashboard=False,
+                    log_to_driver=False,
+                    configure_logging=False,
+                )
+            else:
+                self.ray.init(address=address, log_to_driver=False, configure_logging=False)
+
+    def __repr__(self) -> str:
+        return f"RayBackend(max_retries={self.max_retries})"
+
+    def imap_unordered(
+        self,
+        fn: Callable[[Any], Any],
+        items: Sequence[Any],
+        initializer: Callable[[], None] | None = None,
+    ) -> Iterator[tuple[int, Any]]:
+        """Yield ``(index, fn(items[index]))`` as the tasks finish.
+
+        On an exception or Ctrl-C the tasks not finished are cancelled and the error raised.
+        """
+        ray = self.ray
+        task = ray.remote(num_cpus=1, max_retries=self.max_retries)(_call)
+        refs = {task.remote(fn, initializer, item): i for i, item in enumerate(items)}
+        pending = list(refs)
+        try:
+            while pending:
+                done, pending = ray.wait(pending, num_returns=1)
+                for ref in done:
+                    yield refs[ref], ray.get(ref)
+        finally:
+            for ref in pending:
+                ray.cancel(ref, force=True)
+
+    def close(self) -> None:
+        """Stop the private instance, if this backend started it."""
+        if self._owner and self.ray.is_initialized():
+            self.ray.shutdown()
+
+
+def _call(fn: Callable[[Any], Any], initializer: Callable[[], None] | None, item: Any) -> Any:
+    """Run a Ray task: the pool's initializer, then the job."""
+    if initializer is not None:
+        initializer()
+    return fn(item)
+
+
+def make_backend(
+    name: str, workers: int = 1, address: str | None = None
+) -> LocalBackend | RayBackend:
+    """Build a backend by name.
+
+    Parameters
+    ----------
+    name
+        ``"local"`` or ``"ray"``.
+    workers
+        Local processes; for a private Ray instance, its CPUs.
+    address
+        Ray cluster address (``"auto"`` or ``"HOST:PORT"``); only with ``"ray"``.
+
+    Raises
+    ------
+    ValueError
+        For an unknown name, an address without Ray, or Ray not installed (the message
+        names the extra).
+    """
+    if name not in BACKENDS:
+        raise ValueError(f"unknown backend {name!r}; valid: {list(BACKENDS)}")
+    if name == "local":
+        if address is not None:
+            raise ValueError("--address needs --backend ray")
+        return LocalBackend(workers)
+    return RayBackend(address, num_cpus=workers if address is None else None)
