@@ -1,8 +1,8 @@
 """The ``radial-ibvs`` command line: a short dispatcher, one module per command.
 
 Each command module (:mod:`.demo`, :mod:`.reproduce`, :mod:`.evaluate`, :mod:`.train`,
-:mod:`.benchmark`, :mod:`.render`, :mod:`.image`) has ``add_parser(sub)`` and ``run(args)``;
-its heavy imports happen inside ``run``, so ``radial-ibvs --help`` is instant.
+:mod:`.benchmark`, :mod:`.sweep`, :mod:`.render`, :mod:`.image`) has ``add_parser(sub)`` and
+``run(args)``; its heavy imports happen inside ``run``, so ``radial-ibvs --help`` is instant.
 """
 
 from __future__ import annotations
@@ -11,7 +11,7 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from agents.cli import benchmark, demo, evaluate, image, render, reproduce, train
+from agents.cli import benchmark, demo, evaluate, image, render, reproduce, sweep, train
 
 __all__ = ["COMMANDS", "build_parser", "main"]
 
@@ -22,6 +22,7 @@ COMMANDS = {
     "evaluate": evaluate,
     "train": train,
     "benchmark": benchmark,
+    "sweep": sweep,
     "render": render,
     "image": image,
 }

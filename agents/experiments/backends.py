@@ -15,6 +15,8 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import sys
+import warnings
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from typing import Any
@@ -33,8 +35,13 @@ def import_ray(local: bool = True) -> Any:
     ----------
     local
         A private single-machine instance: its servers bind 127.0.0.1 only (Ray's own
-        single-machine mode, ``RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER=0``). Must be decided before
-        Ray is first imported.
+        single-machine mode, ``RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER=0``).
+
+    Notes
+    -----
+    Ray reads these settings when it is first imported. If this process imported Ray
+    before, its settings stay as they were (a warning says so for a private instance, whose
+    servers may then listen on every interface).
 
     Raises
     ------
@@ -42,11 +49,22 @@ def import_ray(local: bool = True) -> Any:
         When Ray is not installed; the message names the extra to install.
     """
     os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")  # nothing leaves the machine
-    # token authentication on, and said so explicitly: Ray's documented way to keep it on
-    # without its warning (https://docs.ray.io/en/latest/ray-security/token-auth.html)
-    os.environ.setdefault("RAY_AUTH_MODE", "token")
-    if local:
-        os.environ.setdefault("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER", "0")
+    if "ray" not in sys.modules:
+        # token authentication on, and said so explicitly: Ray's documented way to keep it
+        # on without its warning (https://docs.ray.io/en/latest/ray-security/token-auth.html)
+        os.environ.setdefault("RAY_AUTH_MODE", "token")
+        if local:
+            os.environ.setdefault("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER", "0")
+    elif (
+        local
+        and sys.modules["ray"] is not None
+        and os.environ.get("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER") != "0"
+    ):
+        warnings.warn(
+            "Ray was imported before radial_ibvs_gym configured it: the private instance "
+            "keeps Ray's defaults (servers on every interface); import agents first",
+            stacklevel=2,
+        )
     try:
         import ray
     except ImportError:

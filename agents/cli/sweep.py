@@ -1,0 +1,68 @@
+"""``radial-ibvs sweep``: train one model per seed (locally or on Ray) and summarise the seeds."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(sub: Any) -> None:
+    """Add the ``sweep`` sub-command to the sub-parsers ``sub``."""
+    parser = sub.add_parser(
+        "sweep",
+        help="train one model per seed; IQM and bootstrap interval, curves with seed bands",
+        description=(
+            "Train the config once per seed (each run as 'radial-ibvs train' writes it, in "
+            "OUT/seed-<s>), locally or one Ray task per seed, then write summary.json, "
+            "summary.md and learning_curves.png: the final held-out success per seed, their "
+            "IQM with a 95 %% stratified-bootstrap interval, and the curves. A rerun with the "
+            "same --out skips the seeds already trained."
+        ),
+    )
+    parser.add_argument("--config", type=Path, required=True, help="rl-zoo3-format YAML file")
+    parser.add_argument("--seeds", type=int, nargs="+", required=True, help="training seeds")
+    parser.add_argument("--algo", choices=("ppo", "sac"), default="ppo")
+    parser.add_argument("--env-id", help="config section (default: the file's only one)")
+    parser.add_argument("--total-timesteps", type=int, help="default: the config's n_timesteps")
+    parser.add_argument(
+        "--backend",
+        choices=("local", "ray"),
+        default="local",
+        help="local processes, or one Ray task per seed (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--address",
+        help="Ray cluster to join: 'auto' or HOST:PORT (default: a private local instance)",
+    )
+    parser.add_argument(
+        "--workers",
+        type=int,
+        default=1,
+        help="seeds trained at once locally (each takes about one core), or the CPUs of a "
+        "private Ray instance (default: %(default)s)",
+    )
+    parser.add_argument("--out", type=Path, default=Path("outputs/sweep"), help="folder")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``radial-ibvs sweep``; returns the exit code."""
+    from agents.experiments.sweep import run_sweep
+
+    run_sweep(
+        args.config,
+        args.seeds,
+        args.out,
+        algo=args.algo,
+        env_id=args.env_id,
+        total_timesteps=args.total_timesteps,
+        backend=args.backend,
+        address=args.address,
+        workers=args.workers,
+        command="radial-ibvs " + " ".join(args.argv),
+    )
+    print((Path(args.out) / "summary.md").read_text(), end="")
+    print(f"saved {args.out}/summary.json, summary.md, learning_curves.png")
+    return 0
