@@ -24,7 +24,22 @@ import gymnasium as gym
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["DEFAULT_ENV_ID", "EpisodeLog", "env_kwargs_for", "make_env", "run_episode"]
+__all__ = [
+    "DEFAULT_ENV_ID",
+    "TOLERANCES",
+    "EpisodeLog",
+    "env_kwargs_for",
+    "make_env",
+    "run_episode",
+]
+
+#: the success tolerances every row reports (position in metres, heading in degrees): the
+#: env's own (2 cm / 2 deg, the ``success`` column) and two looser ones
+TOLERANCES: dict[str, tuple[float, float]] = {
+    "2cm/2deg": (0.02, 2.0),
+    "10cm/5deg": (0.10, 5.0),
+    "30cm/15deg": (0.30, 15.0),
+}
 
 #: the env every command runs unless told otherwise
 DEFAULT_ENV_ID = "RadialIBVS/Parking-v0"
@@ -122,6 +137,9 @@ class EpisodeLog:
         record them; empty otherwise.
     extra
         Anything a caller adds (e.g. the suite).
+    terminated
+        Whether the env terminated the episode (success, collision or lost landmarks) rather
+        than truncated it (time limit) or ``max_steps`` stopped it.
     """
 
     policy: str
@@ -138,6 +156,7 @@ class EpisodeLog:
     info: dict[str, Any]
     compute_s: float
     extra: dict[str, Any] = field(default_factory=dict)
+    terminated: bool = False
     frames: list[NDArray[np.uint8]] = field(default_factory=list, repr=False)
 
     @property
@@ -174,6 +193,28 @@ class EpisodeLog:
         """Whether the env reported success at the end."""
         return bool(self.info.get("is_success", False))
 
+    @property
+    def end(self) -> str:
+        """Why the episode ended: ``success``, ``collision``, ``lost`` or ``time-out``."""
+        if self.success:
+            return "success"
+        if self.info.get("collision", False):
+            return "collision"
+        return "lost" if self.terminated else "time-out"
+
+    def success_at(self, position_m: float, heading_deg: float) -> bool:
+        """Success at a looser tolerance: the env's success, or a final pose that close.
+
+        An episode ended by a collision counts only if the env reported success.
+        """
+        if self.success:
+            return True
+        return (
+            not self.info.get("collision", False)
+            and float(self.info["position_error_m"]) <= position_m
+            and float(self.info["heading_error_deg"]) <= heading_deg
+        )
+
     def row(self) -> dict[str, Any]:
         """Return the episode as a ``--json`` row (README, "JSON rows"), plus ``extra``."""
         steps = max(self.steps, 1)
@@ -191,6 +232,10 @@ class EpisodeLog:
             "time_s": round(self.steps * self.control_dt, 9),
             "path_length_m": self.path_length_m,
             "collision": bool(self.info.get("collision", False)),
+            "end": self.end,
+            "success_by_tolerance": {
+                name: self.success_at(*tol) for name, tol in TOLERANCES.items()
+            },
             "compute_us_per_step": 1e6 * self.compute_s / steps,
             "control_effort": self.control_effort,
             "smoothness": self.smoothness,
@@ -247,6 +292,7 @@ def run_episode(
     actions: list[np.ndarray] = []
     state, episode_start, compute = None, np.ones(1, dtype=bool), 0.0
     limit = math.inf if max_steps is None else max_steps
+    terminated = False
     while len(actions) < limit:
         start = time.perf_counter()
         action, state = policy.predict(obs, state, episode_start, deterministic=True)
@@ -277,4 +323,5 @@ def run_episode(
         info=info,
         compute_s=compute,
         frames=frames,
+        terminated=terminated,
     )

@@ -6,6 +6,7 @@ import csv
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from agents.cli import main
@@ -23,6 +24,9 @@ def test_every_suite_of_the_issue_exists_with_its_variants() -> None:
         "mirror-swap",
         "physics",
         "pixels",
+        "held-out",
+        "paper-lab",
+        "cross-camera",
     }
     measured = {v.overrides.get("measurement", "ideal") for v in SUITES["pixels"]}
     assert measured == {"ideal", "detected"}
@@ -151,3 +155,53 @@ def test_long_variants_are_split_into_chunks_and_merged_back_in_seed_order(monke
     for result in results:
         assert [row["seed"] for row in result.rows] == list(range(7))
         assert [task for task, _ in result.paths] == [0, 1, 2, 3]
+
+
+def test_generalisation_suites_use_held_out_seeds_and_other_cameras() -> None:
+    from agents.experiments.suites import HELD_OUT_SEED
+
+    results = run_benchmark(["ibvs"], ["held-out", "cross-camera"], episodes=2, progress=False)
+    for result in results:
+        assert [row["seed"] for row in result.rows] == [HELD_OUT_SEED, HELD_OUT_SEED + 1]
+    cameras = {r.job.variant.label: r.job.variant.overrides for r in results}
+    assert cameras["random rooms, mirror B"]["camera"]["mirror"] == "B"
+    assert cameras["random rooms, camera at 1.2 m"]["camera_height"] == 1.2
+
+
+def test_rows_report_success_at_three_tolerances_and_why_they_ended() -> None:
+    from agents.runner import TOLERANCES
+
+    results = run_benchmark(
+        ["ibvs", "random"], ["random"], episodes=6, progress=False
+    )  # the random policy collides or times out; the IBVS mostly parks
+    rows = [row for result in results for row in result.rows]
+    ends = {row["end"] for row in rows}
+    assert "success" in ends and ends <= {"success", "collision", "lost", "time-out"}
+    for row in rows:
+        tolerance = row["success_by_tolerance"]
+        assert list(tolerance) == list(TOLERANCES)
+        assert tolerance["2cm/2deg"] == row["success"] == (row["end"] == "success")
+        assert tolerance["2cm/2deg"] <= tolerance["10cm/5deg"] <= tolerance["30cm/15deg"]
+        assert row["collision"] == (row["end"] == "collision") or row["success"]
+    summary = summary_rows(results)[0]
+    assert summary["success_by_tolerance"]["2cm/2deg"]["rate"] == summary["success_rate"]
+    assert sum(summary["ends"].values()) == summary["episodes"]
+
+
+def test_a_looser_tolerance_counts_a_close_time_out_but_not_a_close_crash() -> None:
+    from agents.runner import EpisodeLog
+
+    def log(position: float, heading: float, collision: bool, terminated: bool) -> EpisodeLog:
+        info = {"position_error_m": position, "heading_error_deg": heading,
+                "is_success": False, "collision": collision}  # fmt: skip
+        empty = np.zeros((1, 0))
+        return EpisodeLog("p", "s", "kinematic", 0, 0, 0.1, np.zeros((1, 3)), np.zeros((0, 2)),
+                          empty, empty, empty, info, 0.0, terminated=terminated)  # fmt: skip
+
+    timeout = log(0.05, 3.0, collision=False, terminated=False)
+    assert timeout.end == "time-out"
+    assert [timeout.success_at(*t) for t in ((0.02, 2), (0.1, 5), (0.3, 15))] == [0, 1, 1]
+    crash = log(0.05, 3.0, collision=True, terminated=True)
+    assert crash.end == "collision" and not crash.success_at(0.3, 15.0)
+    lost = log(2.0, 90.0, collision=False, terminated=True)
+    assert lost.end == "lost" and not lost.success_at(0.3, 15.0)

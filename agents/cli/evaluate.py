@@ -64,6 +64,17 @@ def run(args: argparse.Namespace) -> int:
         f"(p95 {100 * summary['position_error_m_p95']:.2f}), heading error median "
         f"{head:.2f} deg (p95 {summary['heading_error_deg_p95']:.2f})"
     )
+    by_tolerance = summary.get("success_by_tolerance", {})
+    if by_tolerance:
+        print(
+            "  success by tolerance: "
+            + ", ".join(
+                f"{name} {s['rate']:.0%} ({s['ci95'][0]:.0%}-{s['ci95'][1]:.0%})"
+                for name, s in by_tolerance.items()
+            )
+        )
+    if "ends" in summary:
+        print("  ends: " + ", ".join(f"{k} {v}" for k, v in summary["ends"].items()))
     print(f"  compute {summary['compute_us_per_step']:.0f} us/step")
     if args.json is not None:
         print(f"saved {write_json(logs, args.json)}")

@@ -165,16 +165,21 @@ def _fmt(value: float, scale: float = 1.0, digits: int = 2) -> str:
 def markdown_table(summaries: Sequence[dict[str, Any]]) -> str:
     """Format the summaries as a Markdown table."""
     lines = [
-        "| suite | variant | policy | success | 95% CI | pos. err. median / p95 [cm] "
+        "| suite | variant | policy | success | 95% CI | 10 cm / 5 deg | 30 cm / 15 deg "
+        "| pos. err. median / p95 [cm] "
         "| head. err. median / p95 [deg] | time [s] | path [m] | effort | smooth. "
         "| coll. | us/step |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for s in summaries:
         lo, hi = s["success_ci95"]
+        loose = s.get("success_by_tolerance", {})
+        cells = [
+            f"{loose[k]['rate']:.0%}" if k in loose else "-" for k in ("10cm/5deg", "30cm/15deg")
+        ]
         lines.append(
             f"| {s['suite']} | {s['variant']} | {s['policy']} | {s['success_rate']:.0%} "
-            f"| {lo:.0%}-{hi:.0%} "
+            f"| {lo:.0%}-{hi:.0%} | {cells[0]} | {cells[1]} "
             f"| {_fmt(s['position_error_m_median'], 100)} / {_fmt(s['position_error_m_p95'], 100)} "
             f"| {_fmt(s['heading_error_deg_median'])} / {_fmt(s['heading_error_deg_p95'])} "
             f"| {_fmt(s['time_s_median'], digits=1)} | {_fmt(s['path_m_median'])} "
@@ -228,6 +233,9 @@ _CSV_COLUMNS = (
     "time_s",
     "path_length_m",
     "collision",
+    "end",
+    "success_10cm_5deg",
+    "success_30cm_15deg",
     "compute_us_per_step",
     "control_effort",
     "smoothness",
@@ -247,8 +255,18 @@ def write_outputs(results: Sequence[JobResult], out_dir: Path | str) -> list[Pat
     table = markdown_table(summaries)
     if skipped:
         table += "\nSkipped:\n" + "\n".join(skipped) + "\n"
+    flat = [
+        {
+            **row,
+            **{
+                "success_" + name.replace("/", "_"): value
+                for name, value in (row.get("success_by_tolerance") or {}).items()
+            },
+        }
+        for row in rows
+    ]
     written = [
-        write_csv(out / "episodes.csv", rows, _CSV_COLUMNS),
+        write_csv(out / "episodes.csv", flat, _CSV_COLUMNS),
         write_json(out / "episodes.json", rows),
         write_atomic(out / "summary.md", table),
     ]

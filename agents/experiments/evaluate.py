@@ -105,4 +105,24 @@ def summarise(rows: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
         ),
         "collisions": sum(bool(r["collision"]) for r in rows),
         "compute_us_per_step": float(np.mean([r["compute_us_per_step"] for r in rows])),
+        **_tolerances_and_ends(rows),
     }
+
+
+def _tolerances_and_ends(rows: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
+    """Success rate (and Wilson interval) per tolerance, and how the episodes ended."""
+    n = len(rows)
+    out: dict[str, Any] = {}
+    names = [k for k in (rows[0].get("success_by_tolerance") or {})] if rows else []
+    if names:
+        out["success_by_tolerance"] = {}
+        for name in names:
+            wins = sum(bool(r["success_by_tolerance"][name]) for r in rows)
+            out["success_by_tolerance"][name] = {
+                "rate": wins / n,
+                "ci95": wilson_interval(wins, n),
+            }
+    if rows and "end" in rows[0]:
+        ends = [str(r["end"]) for r in rows]
+        out["ends"] = {e: ends.count(e) for e in ("success", "collision", "lost", "time-out")}
+    return out

@@ -63,7 +63,8 @@ def run_job(job: Job) -> JobResult:
     rows, paths = [], []
     for k in range(job.first, job.first + job.episodes):
         options = {"task": k % n_tasks} if job.variant.cycle_tasks else None
-        log = run_episode(policy, env, seed=k, options=options, policy_name=job.policy)
+        seed = job.variant.seed_offset + k
+        log = run_episode(policy, env, seed=seed, options=options, policy_name=job.policy)
         row = log.row()
         row.update(
             suite=job.variant.suite,

@@ -34,6 +34,7 @@ def job_key(job: Job) -> str:
         "scenario": variant.scenario,
         "overrides": variant.overrides,
         "cycle_tasks": variant.cycle_tasks,
+        "seed_offset": variant.seed_offset,
         "first": job.first,
         "episodes": job.episodes,
     }

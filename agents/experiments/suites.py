@@ -1,8 +1,9 @@
 """The benchmark's suites: which envs, variants and seeds every policy is run on.
 
 Every suite is a list of variants; a variant is a label, a scenario, ``gym.make`` overrides and
-an episode count. In the suites built on ``paper-sim``, episode ``k`` runs task ``k % 4`` with
-seed ``k``. Everything runs on the kinematic backend, except for the ``physics`` suite.
+an episode count. Episode ``k`` is seeded ``seed_offset + k`` (0, or :data:`HELD_OUT_SEED` in
+the generalisation suites); in the suites built on ``paper-sim`` it runs task ``k % 4``.
+Everything runs on the kinematic backend, except for the ``physics`` suite.
 """
 
 from __future__ import annotations
@@ -10,7 +11,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-__all__ = ["SUITES", "Variant", "suite_variants"]
+__all__ = ["HELD_OUT_SEED", "SUITES", "Variant", "suite_variants"]
 
 _MIRROR_A = {"mirror": "A", "non_central_offset": 0.01}  # paper-sim's camera
 #: the detected-points set-ups: paper-sim's room is 15.6 m wide, so larger beacons and images
@@ -34,6 +35,9 @@ class Variant:
         Default number of episodes.
     cycle_tasks
         Episode ``k`` runs task ``k % n_tasks`` (the paper's four tasks).
+    seed_offset
+        Episode ``k`` is seeded ``seed_offset + k`` (held-out seeds: no training run of this
+        project draws its episodes from seeds this large).
     """
 
     suite: str
@@ -42,6 +46,11 @@ class Variant:
     overrides: dict[str, Any] = field(default_factory=dict)
     episodes: int = 8
     cycle_tasks: bool = True
+    seed_offset: int = 0
+
+
+#: first seed of the held-out episodes (training uses small seeds, its evaluations 10,000+)
+HELD_OUT_SEED = 100_000
 
 
 def _camera(**imperfections: Any) -> dict[str, Any]:
@@ -69,6 +78,41 @@ SUITES: dict[str, list[Variant]] = {
         _paper("mirror-swap", "goal mirror A"),
         _paper(
             "mirror-swap", "goal mirror B", goal_camera={"mirror": "B", "non_central_offset": 0.01}
+        ),
+    ],
+    # generalisation: rooms, labs and cameras that no model was trained on
+    "held-out": [
+        Variant(
+            "held-out",
+            "random rooms",
+            "random",
+            {"physics": "kinematic"},
+            200,
+            False,
+            HELD_OUT_SEED,
+        ),
+    ],
+    "paper-lab": [
+        Variant("paper-lab", "zero-shot", "paper-lab", {"physics": "kinematic"}, 8, False),
+    ],
+    "cross-camera": [
+        Variant(
+            "cross-camera",
+            "random rooms, mirror B",
+            "random",
+            {"physics": "kinematic", "camera": {"mirror": "B", "non_central_offset": 0.01}},
+            100,
+            False,
+            HELD_OUT_SEED,
+        ),
+        Variant(
+            "cross-camera",
+            "random rooms, camera at 1.2 m",
+            "random",
+            {"physics": "kinematic", "camera_height": 1.2},
+            100,
+            False,
+            HELD_OUT_SEED,
         ),
     ],
     "physics": [
