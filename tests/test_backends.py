@@ -241,3 +241,14 @@ def _address(hex_address: str, v6: bool) -> tuple[Any, int]:
         raw = b"".join(raw[i : i + 4][::-1] for i in range(0, 16, 4))
         return ipaddress.IPv6Address(raw), int(port, 16)
     return ipaddress.IPv4Address(raw[::-1]), int(port, 16)
+
+
+def test_ctrl_c_in_the_cli_exits_130_and_says_how_to_resume(monkeypatch, capsys) -> None:
+    def interrupted(*args, **kwargs):
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(benchmark, "run_benchmark", interrupted)
+    code = main(["benchmark", "--suites", "paper", "--policies", "ibvs", "--no-progress",
+                 "--out", "unused"])  # fmt: skip
+    assert code == 130
+    assert "interrupted; the finished chunks are in OUT/chunks" in capsys.readouterr().err

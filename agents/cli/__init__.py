@@ -28,6 +28,14 @@ COMMANDS = {
 }
 
 
+#: what an interrupted command kept, and how to go on
+RESUME_HINTS = {
+    "benchmark": "; the finished chunks are in OUT/chunks: rerun the same command to resume",
+    "sweep": "; the finished seeds are in OUT/seed-*: rerun the same command to resume",
+    "train": "; checkpoints are in OUT/checkpoints: --resume continues from one",
+}
+
+
 def build_parser() -> argparse.ArgumentParser:
     """Return the argument parser of ``radial-ibvs`` (one sub-parser per command)."""
     parser = argparse.ArgumentParser(
@@ -54,6 +62,10 @@ def main(argv: Sequence[str] | None = None) -> int:
         message = error.args[0] if error.args else error
         print(f"radial-ibvs {args.command}: error: {message}", file=sys.stderr)
         return 2
+    except KeyboardInterrupt:  # Ctrl-C: what is saved stays saved (and says how to resume)
+        hint = RESUME_HINTS.get(args.command, "")
+        print(f"\nradial-ibvs {args.command}: interrupted{hint}", file=sys.stderr)
+        return 130
 
 
 if __name__ == "__main__":
