@@ -27,6 +27,7 @@ def test_every_suite_of_the_issue_exists_with_its_variants() -> None:
         "held-out",
         "paper-lab",
         "cross-camera",
+        "obstacles",
     }
     measured = {v.overrides.get("measurement", "ideal") for v in SUITES["pixels"]}
     assert measured == {"ideal", "detected"}

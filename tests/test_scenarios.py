@@ -10,7 +10,7 @@ from radial_ibvs_gym import paper
 from radial_ibvs_gym.config import ConfigError
 from radial_ibvs_gym.scenarios import load_scenario
 
-SHIPPED = ("paper-sim", "paper-lab", "random")
+SHIPPED = ("paper-sim", "paper-lab", "random", "random-obstacles")
 
 
 def test_paper_sim_matches_the_paper_constants() -> None:
@@ -89,6 +89,9 @@ def test_a_goal_that_sees_too_few_landmarks_is_rejected_at_load() -> None:
         ({"camera": {"mirror": "Z"}}, r"camera.mirror: 'Z' is not one of"),
         ({"tasks": [{"start": [0, 0, "x"], "goal": "anywhere"}]}, "matches none of"),
         ({"tasks": [{"start": "somewhere", "goal": "anywhere"}]}, "matches none of"),
+        ({"random_obstacles": {"count": [3, 1]}}, r"count must be a \[low, high\] range"),
+        ({"random_obstacles": {"radius": [0.0, 0.5]}}, "radius"),
+        ({"random_obstacles": {"clearance": -1.0}}, "clearance must be finite and >= 0"),
     ],
 )
 def test_bad_scenarios_are_named(overrides: dict, match: str) -> None:
@@ -97,7 +100,9 @@ def test_bad_scenarios_are_named(overrides: dict, match: str) -> None:
 
 
 def test_unknown_scenario_lists_the_shipped_ones() -> None:
-    with pytest.raises(ConfigError, match=r"available: \['paper-lab', 'paper-sim', 'random'\]"):
+    with pytest.raises(
+        ConfigError, match=r"available: \['paper-lab', 'paper-sim', 'random', 'random-obstacles'\]"
+    ):
         load_scenario("parking")
 
 
@@ -124,3 +129,24 @@ def test_drawn_poses_keep_clear_of_obstacles() -> None:
             assert math.hypot(pose[0] - 4.0, pose[1] - 4.0) >= 1.0 + s.config.wall_clearance
     with pytest.raises(ValueError, match=r"obstacles\[0\] radius must be positive"):
         load_scenario("random", obstacles=[[4.0, 4.0, 0.0]])
+
+
+def test_random_obstacles_are_drawn_inside_the_room_apart_and_clear_of_the_poses() -> None:
+    s = load_scenario("random-obstacles")
+    spec = s.config.random_obstacles
+    assert spec is not None
+    counts = []
+    for seed in range(60):
+        e = s.sample(np.random.default_rng(seed))
+        counts.append(len(e.obstacles))
+        for k, (x, y, r) in enumerate(e.obstacles):
+            assert spec.radius[0] <= r <= spec.radius[1]
+            margin = r + spec.clearance
+            assert margin <= x <= e.room[0] - margin and margin <= y <= e.room[1] - margin
+            for x2, y2, r2 in e.obstacles[k + 1 :]:
+                assert math.hypot(x - x2, y - y2) >= r + r2 + spec.clearance
+            for pose in (e.start, e.goal):
+                assert math.hypot(pose[0] - x, pose[1] - y) >= r + s.config.wall_clearance
+    assert set(counts) == {1, 2, 3}
+
+    assert load_scenario("random").sample(np.random.default_rng(5)).obstacles.shape == (0, 3)

@@ -68,7 +68,7 @@ def _run_both(env_id: str, n: int, steps: int, mode: str, tol: float, **kwargs: 
 
 
 @pytest.mark.parametrize("mode", ["next_step", "same_step"])
-@pytest.mark.parametrize("scenario", ["paper-sim", "paper-lab", "random"])
+@pytest.mark.parametrize("scenario", ["paper-sim", "paper-lab", "random", "random-obstacles"])
 @pytest.mark.parametrize("env_id", ["RadialIBVS/Parking-v0", "RadialIBVS/ParkingGoal-v0"])
 def test_native_equals_sync_on_the_kinematic_backend(env_id: str, scenario: str, mode: str) -> None:
     # a short time limit: truncations exercise the autoreset path besides the terminations
@@ -79,7 +79,7 @@ def test_native_equals_sync_on_the_kinematic_backend(env_id: str, scenario: str,
     assert ends > 0  # the autoreset path ran
 
 
-@pytest.mark.parametrize("scenario", ["paper-sim", "paper-lab", "random"])
+@pytest.mark.parametrize("scenario", ["paper-sim", "paper-lab", "random", "random-obstacles"])
 def test_native_equals_sync_on_pymunk_within_the_stated_tolerance(scenario: str) -> None:
     kwargs = {"scenario": scenario, "max_episode_steps": 90}
     assert _run_both("RadialIBVS/Parking-v0", 3, 250, "next_step", PYMUNK_TOL, **kwargs)
@@ -321,3 +321,22 @@ def test_native_equals_sync_with_landmark_slots() -> None:
     kwargs = {"scenario": "paper-lab", "physics": "kinematic", "max_landmarks": 16}
     assert _run_both("RadialIBVS/Parking-v0", 3, 120, "same_step", 0.0, obs_mode="features",
                      max_episode_steps=50, **kwargs)  # fmt: skip
+
+
+@pytest.mark.parametrize("physics", ["kinematic", "pymunk"])
+def test_each_robot_meets_only_its_own_rooms_obstacles(physics: str) -> None:
+    from radial_ibvs_gym.physics import RobotConfig, make_fleet
+
+    fleet = make_fleet(physics, RobotConfig(), 2)
+    rooms = np.array([[6.0, 6.0], [6.0, 6.0]])
+    starts = np.array([[2.0, 3.0, 0.0], [2.0, 3.0, 0.0]])
+    fleet.reset([0, 1], rooms, starts, obstacles=[[[3.2, 3.0, 0.4]], np.zeros((0, 3))])
+    hit = np.zeros(2, dtype=bool)
+    for _ in range(20):  # 1 m/s towards x: robot 0 meets its pillar, robot 1 drives past
+        _, collision = fleet.step(np.array([[1.0, 0.0], [1.0, 0.0]]), 0.1)
+        hit |= collision
+    assert hit.tolist() == [True, False]
+    with pytest.raises(ValueError, match="obstacle"):
+        fleet.reset([1], rooms[:1], starts[:1], obstacles=[[[2.0, 3.0, 0.3]]])
+    with pytest.raises(ValueError, match=r"obstacles\[0\] must be \(x, y, radius > 0\)"):
+        fleet.reset([1], rooms[:1], starts[:1], obstacles=[[[5.0, 5.0, -1.0]]])

@@ -115,6 +115,17 @@ SUITES: dict[str, list[Variant]] = {
             HELD_OUT_SEED,
         ),
     ],
+    "obstacles": [
+        Variant(
+            "obstacles",
+            "random rooms with obstacles",
+            "random-obstacles",
+            {"physics": "kinematic"},
+            200,
+            False,
+            HELD_OUT_SEED,
+        ),
+    ],
     "physics": [
         _paper("physics", "kinematic"),
         _paper("physics", "pymunk", physics="pymunk"),

@@ -369,7 +369,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._goal = tuple(episode.goal.tolist())
         room = (float(episode.room[0]), float(episode.room[1]))
         extra = {"physics_dt": self.physics_dt} if self.physics == "pymunk" else {}
-        obstacles = self.scenario.config.obstacles
+        obstacles = tuple(tuple(o) for o in episode.obstacles.tolist())
         self.world = make_world(self.physics, self.robot, room, obstacles=obstacles, **extra)
         self.world.reset(episode.start)
         if self.obs_mode == "features":

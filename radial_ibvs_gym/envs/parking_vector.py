@@ -200,7 +200,7 @@ class ParkingVectorEnv(VectorEnv):
         if unknown:
             raise ValueError(f"unknown reset option(s) {unknown}; valid: ['goal', 'start', 'task']")
         task = options.get("task", t.task)
-        rooms, starts = [], []
+        rooms, starts, obstacles = [], [], []
         for i in indices.tolist():
             rng = self._rngs[i]
             assert rng is not None
@@ -219,13 +219,15 @@ class ParkingVectorEnv(VectorEnv):
             self._setups[i] = setup
             rooms.append(episode.room)
             starts.append(episode.start)
+            obstacles.append(episode.obstacles)
             if t.obs_mode == "features":
                 self._c_goal[i] = setup.c_goal
                 self._weight_caches[i] = {}
                 self._both[i] = False
                 self._weights[i] = 0.0
                 self._has_weights[i] = False
-        self.fleet.reset(indices, np.array(rooms), np.array(starts))
+        drawn = t.scenario.config.random_obstacles is not None  # else the fleet's fixed ones
+        self.fleet.reset(indices, np.array(rooms), np.array(starts), obstacles if drawn else None)
         poses = self.fleet.poses
         self._observe(poses, indices)
         goals = self._goals[indices].T

@@ -63,7 +63,7 @@ class ParkingRenderer:
         top, omni = self.figure.subplots(1, 2)
         w, d = episode.room
         top.add_patch(matplotlib.patches.Rectangle((0, 0), w, d, fc="0.97", ec="k", lw=2))
-        for ox, oy, radius in scenario.config.obstacles:
+        for ox, oy, radius in episode.obstacles.tolist():
             top.add_patch(matplotlib.patches.Circle((ox, oy), radius, fc="0.6", ec="0.3"))
         top.scatter(episode.landmarks[:, 0], episode.landmarks[:, 1], c=colors, s=40, zorder=3)
         goal = _footprint(episode.goal, *robot_size)

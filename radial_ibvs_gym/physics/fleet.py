@@ -16,6 +16,7 @@ exactly; the tests compare the two.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -72,7 +73,8 @@ class Fleet:
     n
         Number of robots ``B`` (>= 1).
     obstacles
-        Circular obstacles ``(x, y, radius)`` of every room, metres.
+        Circular obstacles ``(x, y, radius)`` of every room, metres, unless :meth:`reset` gives
+        a robot's room its own.
     """
 
     def __init__(
@@ -86,7 +88,10 @@ class Fleet:
         self.robot = robot
         self.n = int(n)
         self.obstacles = check_obstacles(obstacles)
-        self._obstacles = np.array(self.obstacles, dtype=np.float64).reshape(-1, 3)
+        fixed = np.array(self.obstacles, dtype=np.float64).reshape(-1, 3)
+        #: each robot's obstacles ``(B, K, 3)``, padded with zero radii (which touch nothing)
+        self.room_obstacles = np.broadcast_to(fixed, (self.n, *fixed.shape)).copy()
+        self._counts = np.full(self.n, len(fixed))
         self.rooms = np.ones((self.n, 2))
         self.velocity = np.zeros((self.n, 2))
         self._half = (0.5 * robot.length, 0.5 * robot.width)
@@ -96,28 +101,46 @@ class Fleet:
         """``(B, 3)`` poses ``(x, y, yaw)`` in each room's frame, metres and radians."""
         raise NotImplementedError
 
-    def colliding(self, poses: Array, rooms: Array) -> NDArray[np.bool_]:
-        """Tell which footprints at ``poses`` ``(k, 3)`` leave rooms ``(k, 2)`` or hit obstacles."""
+    def colliding(
+        self, poses: Array, rooms: Array, obstacles: Array | None = None
+    ) -> NDArray[np.bool_]:
+        """Tell which footprints at ``poses`` ``(k, 3)`` leave rooms ``(k, 2)`` or hit obstacles.
+
+        ``obstacles`` ``(k, K, 3)``: each footprint's obstacles (zero radii touch nothing);
+        default: those of every robot, ``room_obstacles`` (then ``k = B``).
+        """
         x, y, th = poses[:, 0], poses[:, 1], poses[:, 2]
         cos, sin = np.cos(th), np.sin(th)
         hl, hw = self._half
         c, s = np.abs(cos), np.abs(sin)
         ex, ey = c * hl + s * hw, s * hl + c * hw  # half extents of the rotated footprint
         out = (x - ex < 0.0) | (y - ey < 0.0) | (x + ex > rooms[:, 0]) | (y + ey > rooms[:, 1])
-        for ox, oy, radius in self.obstacles:
-            u = cos * (ox - x) + sin * (oy - y)  # the obstacle's centre in the robot frame
-            v = -sin * (ox - x) + cos * (oy - y)
+        obs = self.room_obstacles if obstacles is None else obstacles
+        if obs.shape[1]:
+            dx, dy = obs[..., 0] - x[:, None], obs[..., 1] - y[:, None]
+            u = cos[:, None] * dx + sin[:, None] * dy  # the obstacle's centre in the robot frame
+            v = -sin[:, None] * dx + cos[:, None] * dy
             du, dv = u - np.clip(u, -hl, hl), v - np.clip(v, -hw, hw)
-            out |= du * du + dv * dv < radius * radius
+            out |= (du * du + dv * dv < obs[..., 2] * obs[..., 2]).any(axis=1)
         return np.asarray(out, dtype=bool)
 
-    def reset(self, indices: ArrayLike, rooms: ArrayLike, poses: ArrayLike) -> None:
+    def reset(
+        self,
+        indices: ArrayLike,
+        rooms: ArrayLike,
+        poses: ArrayLike,
+        obstacles: Sequence[ArrayLike] | None = None,
+    ) -> None:
         """Place robots ``indices`` at rest at ``poses`` ``(k, 3)`` in new rooms ``(k, 2)``.
+
+        ``obstacles``: per robot, its room's circular obstacles ``(K_i, 3)`` ``(x, y,
+        radius)``, metres; default: the fleet's own (``obstacles`` of the constructor).
 
         Raises
         ------
         ValueError
-            For a non-finite pose or room, or a robot overlapping a wall or an obstacle.
+            For a non-finite pose or room, a bad obstacle, or a robot overlapping a wall or an
+            obstacle.
         """
         idx = np.asarray(indices, dtype=np.intp).reshape(-1)
         rooms_k = np.asarray(rooms, dtype=np.float64).reshape(-1, 2)
@@ -126,9 +149,28 @@ class Fleet:
             raise ValueError(f"rooms must be positive (width, depth), got {rooms_k.tolist()}")
         if not np.isfinite(poses_k).all():
             raise ValueError(f"poses must be finite (x, y, yaw), got {poses_k.tolist()}")
+        if obstacles is not None:
+            if len(obstacles) != len(idx):
+                raise ValueError(f"got {len(obstacles)} obstacle lists for {len(idx)} robots")
+            self._set_obstacles(idx, [np.asarray(o, dtype=np.float64) for o in obstacles])
         self.rooms[idx] = rooms_k
         self.velocity[idx] = 0.0
         self._place(idx, rooms_k, poses_k)
+
+    def _set_obstacles(self, idx: NDArray[np.intp], obstacles: list[Array]) -> None:
+        lists = [_checked(o) for o in obstacles]
+        widest = max([len(o) for o in lists] + [self.room_obstacles.shape[1]])
+        if widest > self.room_obstacles.shape[1]:
+            pad = np.zeros((self.n, widest - self.room_obstacles.shape[1], 3))
+            self.room_obstacles = np.concatenate([self.room_obstacles, pad], axis=1)
+        for i, o in zip(idx.tolist(), lists, strict=True):
+            self.room_obstacles[i] = 0.0
+            self.room_obstacles[i, : len(o)] = o
+            self._counts[i] = len(o)
+
+    def obstacles_of(self, i: int) -> Array:
+        """``(K_i, 3)`` the obstacles of robot ``i``'s room."""
+        return self.room_obstacles[i, : self._counts[i]].copy()
 
     def _place(self, idx: NDArray[np.intp], rooms: Array, poses: Array) -> None:
         raise NotImplementedError
@@ -146,6 +188,12 @@ class Fleet:
         raise NotImplementedError
 
 
+def _checked(obstacles: Array) -> Array:
+    """Validate one room's obstacles ``(K, 3)`` (:func:`~.base.check_obstacles`)."""
+    rows = [(float(x), float(y), float(r)) for x, y, r in np.reshape(obstacles, (-1, 3))]
+    return np.array(check_obstacles(tuple(rows)), dtype=np.float64).reshape(-1, 3)
+
+
 class KinematicFleet(Fleet):
     """The exact unicycle, batched; collisions are only detected (nothing stops a robot)."""
 
@@ -160,7 +208,7 @@ class KinematicFleet(Fleet):
         return self._poses.copy()
 
     def _place(self, idx: NDArray[np.intp], rooms: Array, poses: Array) -> None:
-        bad = self.colliding(poses, rooms)
+        bad = self.colliding(poses, rooms, self.room_obstacles[idx])
         if bad.any():
             k = int(np.argmax(bad))
             raise ValueError(
@@ -310,7 +358,7 @@ class PymunkFleet(Fleet):
         shapes = []
         for a, b in zip(corners, corners[1:] + corners[:1], strict=True):
             shapes.append(pymunk.Segment(self.space.static_body, a, b, r))
-        for cx, cy, radius in self.obstacles:
+        for cx, cy, radius in self.obstacles_of(i).tolist():
             shapes.append(pymunk.Circle(self.space.static_body, radius, (ox + cx, oy + cy)))
         for shape in shapes:
             shape.collision_type = self._wall_type

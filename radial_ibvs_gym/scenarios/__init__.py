@@ -4,6 +4,7 @@ from radial_ibvs_gym.scenarios.scenario import Episode, Scenario, load_scenario
 from radial_ibvs_gym.scenarios.spec import (
     PoseRange,
     RandomLandmarks,
+    RandomObstacles,
     RandomRoom,
     ScenarioConfig,
     TaskSpec,
@@ -13,6 +14,7 @@ __all__ = [
     "Episode",
     "PoseRange",
     "RandomLandmarks",
+    "RandomObstacles",
     "RandomRoom",
     "Scenario",
     "ScenarioConfig",

@@ -19,6 +19,10 @@ __all__ = ["Episode", "Scenario", "load_scenario"]
 MAX_TRIES = 1000
 
 
+_NO_OBSTACLES = np.zeros((0, 3))
+_NO_OBSTACLES.setflags(write=False)
+
+
 class Episode(NamedTuple):
     """One drawn episode (world frame, metres and radians).
 
@@ -32,6 +36,9 @@ class Episode(NamedTuple):
         ``(N, 3)`` landmark positions.
     start, goal
         ``(3,)`` poses ``(x, y, yaw)``.
+    obstacles
+        ``(K, 3)`` circular obstacles ``(x, y, radius)`` of this episode: the scenario's fixed
+        ones, then the drawn ones.
     """
 
     task: int
@@ -39,6 +46,7 @@ class Episode(NamedTuple):
     landmarks: np.ndarray
     start: np.ndarray
     goal: np.ndarray
+    obstacles: np.ndarray = _NO_OBSTACLES
 
 
 class Scenario:
@@ -146,15 +154,41 @@ class Scenario:
         z = rng.uniform(*spec.height, spec.count)
         return np.stack([x, y, z], axis=-1)
 
-    def _inside(self, pose: np.ndarray, room: np.ndarray) -> bool:
+    def _inside(self, pose: np.ndarray, room: np.ndarray, obstacles: np.ndarray) -> bool:
         """Whether ``pose`` is ``wall_clearance`` away from the walls and the obstacles."""
         c = self.config.wall_clearance
         if not (c <= pose[0] <= room[0] - c and c <= pose[1] <= room[1] - c):
             return False
         return all(
-            math.hypot(pose[0] - ox, pose[1] - oy) >= radius + c
-            for ox, oy, radius in self.config.obstacles
+            math.hypot(pose[0] - ox, pose[1] - oy) >= radius + c for ox, oy, radius in obstacles
         )
+
+    def _obstacles(self, room: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+        """Return the fixed obstacles, then (``random_obstacles``) drawn ones inside the room.
+
+        Drawn obstacles keep ``clearance`` from the walls and from each other; draws that do
+        not fit are dropped. Nothing is drawn without ``random_obstacles`` (the random stream
+        of such scenarios is unchanged).
+        """
+        fixed = np.array(self.config.obstacles, dtype=np.float64).reshape(-1, 3)
+        spec = self.config.random_obstacles
+        if spec is None:
+            return fixed
+        count = int(rng.integers(spec.count[0], spec.count[1] + 1))
+        radii = rng.uniform(*spec.radius, count)
+        drawn: list[np.ndarray] = []
+        for radius in radii:
+            margin = radius + spec.clearance
+            if room[0] <= 2 * margin or room[1] <= 2 * margin:
+                continue
+            centre = rng.uniform([margin, margin], [room[0] - margin, room[1] - margin])
+            others = [*fixed, *drawn]
+            if all(
+                math.hypot(centre[0] - o[0], centre[1] - o[1]) >= radius + o[2] + spec.clearance
+                for o in others
+            ):
+                drawn.append(np.array([centre[0], centre[1], radius]))
+        return np.concatenate([fixed, np.array(drawn).reshape(-1, 3)])
 
     def sample(self, rng: np.random.Generator, task: int | None = None) -> Episode:
         """Draw an episode.
@@ -191,10 +225,11 @@ class Scenario:
                 else np.array(c.room, dtype=np.float64)
             )
             landmarks = self._landmarks(room, rng)
+            obstacles = self._obstacles(room, rng)
             start = self._pose(spec.start, room, rng)
             goal = self._pose(spec.goal, room, rng)
             dist = float(np.hypot(*(goal[:2] - start[:2])))
-            if not (self._inside(start, room) and self._inside(goal, room)):
+            if not (self._inside(start, room, obstacles) and self._inside(goal, room, obstacles)):
                 continue
             if not (c.min_start_goal_distance <= dist <= c.max_start_goal_distance):
                 continue
@@ -203,7 +238,7 @@ class Scenario:
                 continue
             if self._visible_count(start, landmarks, self.camera) < need:
                 continue
-            return Episode(task, room, landmarks, start, goal)
+            return Episode(task, room, landmarks, start, goal, obstacles)
         raise ValueError(
             f"scenario {c.name!r}: no valid episode in {MAX_TRIES} draws (poses inside the room, "
             f"start-goal distance in [{c.min_start_goal_distance}, {c.max_start_goal_distance}] "

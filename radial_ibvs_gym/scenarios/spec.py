@@ -15,7 +15,14 @@ import numpy as np
 
 from radial_ibvs_gym.camera import CameraSpec
 
-__all__ = ["PoseRange", "RandomLandmarks", "RandomRoom", "ScenarioConfig", "TaskSpec"]
+__all__ = [
+    "PoseRange",
+    "RandomLandmarks",
+    "RandomObstacles",
+    "RandomRoom",
+    "ScenarioConfig",
+    "TaskSpec",
+]
 
 Pose = tuple[float, float, float]
 
@@ -97,6 +104,35 @@ class RandomRoom:
 
 
 @dataclass(frozen=True, kw_only=True)
+class RandomObstacles:
+    """Circular obstacles (pillars, boxes) drawn on the floor of each episode's room.
+
+    Attributes
+    ----------
+    count
+        ``[low, high]`` range of the number of obstacles (integers, drawn uniformly).
+    radius
+        ``[low, high]`` range of their radius, metres.
+    clearance
+        Smallest gap between an obstacle and a wall, metres (a robot can pass).
+    """
+
+    count: tuple[int, int] = (1, 3)
+    radius: tuple[float, float] = (0.2, 0.5)
+    clearance: float = 0.8
+
+    def __post_init__(self) -> None:
+        lo, hi = self.count
+        if not (isinstance(lo, int) and isinstance(hi, int) and 0 <= lo <= hi):
+            raise ValueError(
+                f"count must be a [low, high] range of integers >= 0, got {self.count!r}"
+            )
+        _check_range(self.radius, "radius", positive=True)
+        if not (math.isfinite(self.clearance) and self.clearance >= 0):
+            raise ValueError(f"clearance must be finite and >= 0, got {self.clearance!r}")
+
+
+@dataclass(frozen=True, kw_only=True)
 class RandomLandmarks:
     """Landmarks drawn uniformly on the room's walls.
 
@@ -134,6 +170,8 @@ class ScenarioConfig:
         Draw the room size per episode instead.
     obstacles
         Circular obstacles ``[[x, y, radius], ...]`` on the floor, metres.
+    random_obstacles
+        Also draw circular obstacles per episode (:class:`RandomObstacles`).
     landmarks
         Fixed landmarks ``[[x, y, z], ...]`` in the world frame, metres, unless
         ``random_landmarks`` is set.
@@ -164,6 +202,7 @@ class ScenarioConfig:
     room: tuple[float, float] = (10.0, 10.0)
     random_room: RandomRoom | None = None
     obstacles: tuple[tuple[float, float, float], ...] = ()
+    random_obstacles: RandomObstacles | None = None
     landmarks: tuple[tuple[float, float, float], ...] = ()
     random_landmarks: RandomLandmarks | None = None
     tasks: tuple[TaskSpec, ...] = ()
