@@ -34,7 +34,17 @@ def tiny_config(tmp_path_factory: pytest.TempPathFactory) -> Path:
 @pytest.fixture(scope="module")
 def swept(tiny_config: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("sweep")
-    argv = ["sweep", "--config", str(tiny_config), "--seeds", "0", "1", "--out", str(out)]
+    argv = [
+        "sweep",
+        "--config",
+        str(tiny_config),
+        "--seeds",
+        "0",
+        "1",
+        "--out",
+        str(out),
+        "--no-progress",
+    ]
     assert main(argv) == 0
     return out
 
@@ -64,7 +74,7 @@ def test_a_rerun_skips_done_seeds_and_retrains_a_half_done_one(
     (swept / "seed-2").mkdir()
     (swept / "seed-2" / "model.zip").write_bytes(b"half-written")  # stopped before metadata
     said: list[str] = []
-    summary = sweep.run_sweep(tiny_config, [0, 1, 2], swept, notify=said.append)
+    summary = sweep.run_sweep(tiny_config, [0, 1, 2], swept, notify=said.append, progress=False)
     assert trained == [2]
     assert said[0] == f"seeds [0, 1] already done in {swept}, skipping them"
     assert summary["seeds"] == [0, 1, 2] and (swept / "seed-2" / "metadata.json").is_file()

@@ -45,6 +45,7 @@ def add_parser(sub: Any) -> None:
         "private Ray instance (default: %(default)s)",
     )
     parser.add_argument("--out", type=Path, default=Path("outputs/sweep"), help="folder")
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -61,6 +62,7 @@ def run(args: argparse.Namespace) -> int:
         backend=args.backend,
         address=args.address,
         workers=args.workers,
+        progress=not args.no_progress,
         command="radial-ibvs " + " ".join(args.argv),
     )
     print((Path(args.out) / "summary.md").read_text(), end="")

@@ -45,6 +45,7 @@ class SeedRun:
     seed: int
     total_timesteps: int | None
     command: str
+    progress: bool = False
 
 
 def _train_seed(run: SeedRun) -> bytes:
@@ -66,7 +67,7 @@ def _train_seed(run: SeedRun) -> bytes:
             algo=run.algo,
             seed=run.seed,
             total_timesteps=run.total_timesteps,
-            progress=False,
+            progress=run.progress,
             command=run.command,
         )
         buffer = io.BytesIO()
@@ -99,6 +100,7 @@ def run_sweep(
     address: str | None = None,
     workers: int = 1,
     command: str = "",
+    progress: bool = True,
     notify: Callable[[str], None] = print,
 ) -> dict[str, Any]:
     """Train one model per seed, then write the summary across seeds.
@@ -120,6 +122,8 @@ def run_sweep(
         private Ray instance.
     command
         The command line, for each model's metadata.
+    progress
+        Show each seed's progress bar (when seeds train one at a time in this process).
     notify
         Called with a line of text about skipped seeds.
 
@@ -150,12 +154,14 @@ def run_sweep(
     if done:
         notify(f"seeds {done} already done in {out_dir}, skipping them")
     todo = [s for s in seeds if s not in done]
+    here = backend == "local" and workers == 1  # one seed at a time, in this process
     runs = [
         SeedRun(config_path.read_text(), config_path.name, env_id, algo, s, total_timesteps,
-                f"{command} (seed {s})".strip())
+                f"{command} (seed {s})".strip(), progress=here and progress)
         for s in todo
     ]  # fmt: skip
     if runs:
+        notify(f"training seeds {todo} ({backend}, {workers} at a time)")
         runner = make_backend(backend, workers, address)
         try:
             for k, archive in runner.imap_unordered(_train_seed, runs):
