@@ -93,6 +93,16 @@ def test_chunk_keys_change_with_what_defines_the_rows() -> None:
     assert len({job_key(j) for j in [job, *changed]}) == 5
 
 
+def test_a_retrained_model_gets_new_chunk_keys(tmp_path: Path) -> None:
+    model = tmp_path / "model"
+    model.mkdir()
+    (model / "model.zip").write_bytes(b"first training")
+    job = Job(str(model), SUITES["paper"][0], 2, 0)
+    before = job_key(job)
+    (model / "model.zip").write_bytes(b"second training, longer")
+    assert job_key(job) != before
+
+
 def test_an_interrupted_local_run_resumes_without_running_a_chunk_twice(
     small_chunks, reference: str, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:

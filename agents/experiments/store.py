@@ -3,13 +3,14 @@
 Each finished job (one policy, one suite variant, a chunk of seeded episodes) is written at
 once to ``<out>/chunks/<name>.json`` (atomically: a file is complete or absent). A rerun with
 the same ``--out`` loads the chunks already there instead of running them again. A chunk's
-file name holds a digest of everything that defines its rows (policy, suite variant, its
-``gym.make`` overrides, scenario, first seed, episodes), so a changed job is never mistaken
-for a done one.
+file name holds a digest of everything that defines its rows (policy, and for a learned model
+the bytes of its ``model.zip``; suite variant, its ``gym.make`` overrides, scenario, seeds,
+episodes), so a changed job, or a retrained model, is never mistaken for a done one.
 """
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import re
@@ -37,11 +38,30 @@ def job_key(job: Job) -> str:
         "seed_offset": variant.seed_offset,
         "first": job.first,
         "episodes": job.episodes,
+        "model": _model_digest(job.policy),
     }
     text = json.dumps(fields, sort_keys=True, default=repr)
     digest = hashlib.sha256(text.encode()).hexdigest()[:12]
     readable = re.sub(r"[^A-Za-z0-9._-]+", "_", f"{job.policy}-{variant.suite}-{variant.label}")
     return f"{readable[-80:]}-{job.first:05d}-{digest}"
+
+
+def _model_digest(policy: str) -> str | None:
+    """SHA-256 of a learned model's ``model.zip`` (``None`` for an analytic policy)."""
+    from agents.learned import MODELS_DIR
+
+    for directory in (Path(policy), MODELS_DIR / policy):
+        path = directory / "model.zip" if directory.suffix != ".zip" else directory
+        if path.is_file():
+            stat = path.stat()
+            return _file_digest(str(path.resolve()), stat.st_mtime_ns, stat.st_size)
+    return None
+
+
+@functools.lru_cache(maxsize=64)
+def _file_digest(path: str, mtime_ns: int, size: int) -> str:
+    """Hash the file (SHA-256; cached while its time stamp and size stay the same)."""
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
 class ChunkStore:
