@@ -42,17 +42,23 @@ class ResidualConfig:
         ``ibvs-backward``).
     scale
         The largest correction per action component (actions are in ``[-1, 1]``), in ``(0, 2]``.
+    gate
+        Fade the correction out where the base action is small: it is multiplied by
+        ``min(1, |base| / gate)`` (``|base|`` the Euclidean norm of the base action), so that
+        near the goal, where the analytic policy slows down and stops, the robot moves as it
+        would without correction. ``None``: no fading.
     """
 
     base: str = "ibvs-backward"
     scale: float = 0.5
+    gate: float | None = None
 
     @classmethod
     def from_mapping(cls, data: Mapping[str, Any], where: str) -> ResidualConfig:
         """Validate a ``residual:`` config entry (``base``, ``scale``); errors name the value."""
-        unknown = sorted(set(data) - {"base", "scale"})
+        unknown = sorted(set(data) - {"base", "scale", "gate"})
         if unknown:
-            raise ValueError(f"{where}: unknown key(s) {unknown}; valid: ['base', 'scale']")
+            raise ValueError(f"{where}: unknown key(s) {unknown}; valid: ['base', 'gate', 'scale']")
         base = str(data.get("base", cls.base))
         if base not in ANALYTIC_POLICIES:
             valid = list(ANALYTIC_POLICIES)
@@ -60,21 +66,34 @@ class ResidualConfig:
         scale = data.get("scale", cls.scale)
         if not isinstance(scale, int | float) or not (math.isfinite(scale) and 0 < scale <= 2):
             raise ValueError(f"{where}.scale must be a number in (0, 2], got {scale!r}")
-        return cls(base, float(scale))
+        gate = data.get("gate")
+        if gate is not None and not (
+            isinstance(gate, int | float) and math.isfinite(gate) and gate > 0
+        ):
+            raise ValueError(f"{where}.gate must be a positive number or null, got {gate!r}")
+        return cls(base, float(scale), None if gate is None else float(gate))
 
     def as_dict(self) -> dict[str, Any]:
         """Return the entry as written in a config or the model's metadata."""
-        return {"base": self.base, "scale": self.scale}
+        out: dict[str, Any] = {"base": self.base, "scale": self.scale}
+        if self.gate is not None:
+            out["gate"] = self.gate
+        return out
+
+    def combine(self, base: np.ndarray, correction: np.ndarray) -> np.ndarray:
+        """Return the env's action ``clip(base + w * correction, -1, 1)`` (``(2,)`` or ``(B, 2)``).
+
+        ``w = scale``, times ``min(1, |base| / gate)`` with a ``gate``.
+        """
+        weight = np.full(np.shape(base)[:-1], self.scale, dtype=np.float32)
+        if self.gate is not None:
+            weight = weight * np.minimum(1.0, np.linalg.norm(base, axis=-1) / self.gate)
+        mixed = base + weight[..., None] * np.asarray(correction, dtype=np.float32)
+        return np.clip(mixed, -1.0, 1.0).astype(np.float32)
 
     def make_base(self) -> Any:
         """Build the base policy."""
         return make_analytic(self.base)
-
-
-def _combine(base: np.ndarray, correction: np.ndarray, scale: float) -> np.ndarray:
-    return np.clip(base + scale * np.asarray(correction, dtype=np.float32), -1.0, 1.0).astype(
-        np.float32
-    )
 
 
 class ResidualVecEnv(VecEnvWrapper):
@@ -115,7 +134,7 @@ class ResidualVecEnv(VecEnvWrapper):
 
     def step_async(self, actions: np.ndarray) -> None:
         """Step with ``clip(base + scale * actions, -1, 1)``."""
-        self.venv.step_async(_combine(self._base_actions, actions, self.residual.scale))
+        self.venv.step_async(self.residual.combine(self._base_actions, actions))
 
     def step_wait(self) -> Any:
         """Step the envs; observations (and terminal ones) carry the base actions."""
@@ -177,4 +196,4 @@ class ResidualPolicy:
         correction, state = self.learned.predict(
             {**observation, BASE_KEY: base}, state, episode_start, deterministic
         )
-        return _combine(base, correction, self.residual.scale), state
+        return self.residual.combine(base, correction), state

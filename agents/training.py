@@ -280,7 +280,14 @@ def _plot_learning_curve(curve: list[dict[str, float]], path: Path, title: str) 
     save_figure(fig, path)
 
 
-def export_model(train_dir: Path | str, dest: Path | str, *, best: bool = True) -> Path:
+def export_model(
+    train_dir: Path | str,
+    dest: Path | str,
+    *,
+    best: bool = True,
+    residual_gate: float | None = None,
+    note: str | None = None,
+) -> Path:
     """Copy what a user needs from a training directory into a small model directory.
 
     Parameters
@@ -292,6 +299,12 @@ def export_model(train_dir: Path | str, dest: Path | str, *, best: bool = True) 
     best
         Ship the best model of the held-out evaluations (with its normalisation statistics)
         rather than the last one.
+    residual_gate
+        For a residual model: the ``gate`` to deploy it with
+        (:class:`agents.residual.ResidualConfig`), when it differs from training's; the
+        metadata keeps the training value as ``residual_trained``.
+    note
+        A line for the metadata (``export_note``): how the export was chosen.
 
     Returns
     -------
@@ -312,6 +325,17 @@ def export_model(train_dir: Path | str, dest: Path | str, *, best: bool = True) 
     if use_best and metadata.get("learning_curve"):
         top = max(metadata["learning_curve"], key=lambda r: r["mean_return"])
         metadata["shipped_at_timesteps"] = top["timesteps"]
+    if residual_gate is not None:
+        from agents.residual import ResidualConfig
+
+        if not metadata.get("residual"):
+            raise ValueError(f"{src} is not a residual model: residual_gate does not apply")
+        trained = ResidualConfig.from_mapping(metadata["residual"], f"{src}: residual")
+        deployed = {**trained.as_dict(), "gate": residual_gate}
+        ResidualConfig.from_mapping(deployed, "residual_gate")  # validate
+        metadata["residual_trained"], metadata["residual"] = trained.as_dict(), deployed
+    if note:
+        metadata["export_note"] = note
     write_json(out / "metadata.json", metadata)
     for name in ("logs/progress.csv", "learning_curve.png"):
         if (src / name).is_file():

@@ -12,7 +12,7 @@ import yaml
 from agents.ibvs import IBVSPolicy
 from agents.learned import load
 from agents.residual import BASE_KEY, ResidualConfig, ResidualPolicy, ResidualVecEnv
-from agents.training import train
+from agents.training import export_model, train
 from agents.vec_env import make_vec_env
 from agents.zoo import load_train_config
 
@@ -61,6 +61,8 @@ def test_the_correction_is_scaled_and_the_action_clipped() -> None:
         ({"scale": 0}, r"scale must be a number in \(0, 2\], got 0"),
         ({"scale": float("nan")}, "scale must be"),
         ({"scal": 1}, r"unknown key\(s\) \['scal'\]"),
+        ({"gate": 0}, "gate must be a positive number or null, got 0"),
+        ({"gate": "big"}, "gate must be a positive number"),
     ],
 )
 def test_bad_residual_entries_are_named(entry: dict, match: str) -> None:
@@ -88,3 +90,22 @@ def test_a_trained_residual_model_loads_as_a_residual_policy(tmp_path: Path) -> 
     action, _ = policy.predict(obs)
     base, _ = IBVSPolicy(allow_backward=True).predict(obs)
     assert action.shape == (2,) and np.all(np.abs(action - base) <= 0.5 + 1e-6)
+    shipped = export_model(out, tmp_path / "shipped", residual_gate=0.25, note="gate on val.")
+    exported = load(shipped)
+    assert exported.residual == ResidualConfig("ibvs-backward", 0.5, gate=0.25)
+    assert exported.metadata["residual_trained"] == {"base": "ibvs-backward", "scale": 0.5}
+    assert exported.metadata["export_note"] == "gate on val."
+    assert (shipped / "model.zip").stat().st_size < 5 * 2**20
+
+
+def test_the_gate_fades_the_correction_where_the_base_action_is_small() -> None:
+    gated = ResidualConfig("ibvs-backward", 0.5, gate=0.2)
+    correction = np.array([[1.0, -1.0], [1.0, -1.0], [1.0, -1.0]], np.float32)
+    base = np.array([[0.0, 0.0], [0.1, 0.0], [0.0, 0.6]], np.float32)  # |base| 0, 0.1, 0.6
+    np.testing.assert_allclose(
+        gated.combine(base, correction), [[0.0, 0.0], [0.35, -0.25], [0.5, 0.1]], atol=1e-6
+    )
+    plain = ResidualConfig("ibvs-backward", 0.5)
+    np.testing.assert_allclose(plain.combine(base[0], correction[0]), [0.5, -0.5])
+    assert gated.as_dict() == {"base": "ibvs-backward", "scale": 0.5, "gate": 0.2}
+    assert ResidualConfig.from_mapping(gated.as_dict(), "x") == gated
