@@ -7,7 +7,8 @@ stop loses at most the seeds in flight). The runs happen in a scratch directory 
 as one archive, so Ray workers on other machines need no shared file system.
 
 The summary (``summary.json``, ``summary.md``, ``learning_curves.png``) gives the final
-held-out success rate of every seed, their IQM with a 95 % stratified-bootstrap interval
+success rate of every seed in the evaluations during training (seeds from the config's
+``eval_seed``, which training does not draw), their IQM with a 95 % stratified-bootstrap interval
 (:mod:`agents.stats`), and the learning curves: the IQM across seeds at each evaluation with
 its bootstrap band, and each seed's own curve.
 """
@@ -231,7 +232,8 @@ def _markdown(summary: dict[str, Any]) -> str:
 
     low, high = summary["success_ci95"]
     lines = [
-        f"Held-out success at the last evaluation, {len(summary['seeds'])} seeds: IQM "
+        f"Success at the last evaluation during training (episodes on the config's eval_seed "
+        f"and up, which training does not draw), {len(summary['seeds'])} seeds: IQM "
         f"{pct(summary['success_iqm'])} (95 % stratified-bootstrap CI {pct(low)}-{pct(high)}), "
         f"mean {pct(summary['mean_success'])}.",
         "",
@@ -249,7 +251,7 @@ def _markdown(summary: dict[str, Any]) -> str:
 
 
 def plot_seed_curves(curves: dict[int, list[dict[str, float]]], path: Path) -> Path:
-    """Plot held-out success over training: IQM across seeds with its band, and each seed.
+    """Plot the evaluation success over training: IQM across seeds with its band, and each seed.
 
     Parameters
     ----------
@@ -288,7 +290,7 @@ def plot_seed_curves(curves: dict[int, list[dict[str, float]]], path: Path) -> P
         ax.fill_between(xs, lo, hi, color="C3", alpha=0.2, label="95 % bootstrap CI")
     ax.plot([], [], color="0.6", lw=0.8, label="one seed")
     ax.set_xlabel("env steps")
-    ax.set_ylabel("held-out success rate")
+    ax.set_ylabel("success rate (evaluation seeds)")
     ax.set_ylim(-0.03, 1.03)
     ax.grid(alpha=0.3)
     ax.legend(loc="lower right", fontsize=8)
