@@ -7,6 +7,8 @@ import shutil
 from pathlib import Path
 from typing import Any
 
+from agents.cli._options import add_backend_options
+
 __all__ = ["add_parser", "run"]
 
 
@@ -35,16 +37,7 @@ def add_parser(sub: Any) -> None:
         default=2,
         help="local processes, or the CPUs of a private Ray instance (default: %(default)s)",
     )
-    parser.add_argument(
-        "--backend",
-        choices=("local", "ray"),
-        default="local",
-        help="local process pool, or one Ray task per 20-episode chunk (default: %(default)s)",
-    )
-    parser.add_argument(
-        "--address",
-        help="Ray cluster to join: 'auto' or HOST:PORT (default: a private local instance)",
-    )
+    add_backend_options(parser, "20-episode chunk")
     parser.add_argument(
         "--out",
         type=Path,

@@ -6,6 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from agents.cli._options import add_backend_options
+
 __all__ = ["add_parser", "run"]
 
 
@@ -27,16 +29,7 @@ def add_parser(sub: Any) -> None:
     parser.add_argument("--algo", choices=("ppo", "sac"), default="ppo")
     parser.add_argument("--env-id", help="config section (default: the file's only one)")
     parser.add_argument("--total-timesteps", type=int, help="default: the config's n_timesteps")
-    parser.add_argument(
-        "--backend",
-        choices=("local", "ray"),
-        default="local",
-        help="local processes, or one Ray task per seed (default: %(default)s)",
-    )
-    parser.add_argument(
-        "--address",
-        help="Ray cluster to join: 'auto' or HOST:PORT (default: a private local instance)",
-    )
+    add_backend_options(parser, "seed")
     parser.add_argument(
         "--workers",
         type=int,
