@@ -139,11 +139,13 @@ class ResidualVecEnv(VecEnvWrapper):
     def step_wait(self) -> Any:
         """Step the envs; observations (and terminal ones) carry the base actions."""
         obs, rewards, dones, infos = self.venv.step_wait()
-        for info in infos:
-            final = info.get("terminal_observation")
-            if final is not None:
-                action = self.base.predict(final)[0]
-                info["terminal_observation"] = {**final, BASE_KEY: np.asarray(action, np.float32)}
+        ended = [i for i, info in enumerate(infos) if "terminal_observation" in info]
+        if ended:  # the base actions of all the last observations, in one batched call
+            finals = [infos[i]["terminal_observation"] for i in ended]
+            batch = {k: np.stack([f[k] for f in finals]) for k in finals[0]}
+            actions = np.asarray(self.base.predict(batch)[0], dtype=np.float32)
+            for i, final, action in zip(ended, finals, actions, strict=True):
+                infos[i]["terminal_observation"] = {**final, BASE_KEY: action}
         return self._with_base(obs), rewards, dones, infos  # type: ignore[arg-type]
 
 

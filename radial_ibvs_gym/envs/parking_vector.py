@@ -226,8 +226,7 @@ class ParkingVectorEnv(VectorEnv):
                 self._both[i] = False
                 self._weights[i] = 0.0
                 self._has_weights[i] = False
-        drawn = t.scenario.config.random_obstacles is not None  # else the fleet's fixed ones
-        self.fleet.reset(indices, np.array(rooms), np.array(starts), obstacles if drawn else None)
+        self.fleet.reset(indices, np.array(rooms), np.array(starts), obstacles)
         poses = self.fleet.poses
         self._observe(poses, indices)
         goals = self._goals[indices].T

@@ -91,7 +91,6 @@ class Fleet:
         fixed = np.array(self.obstacles, dtype=np.float64).reshape(-1, 3)
         #: each robot's obstacles ``(B, K, 3)``, padded with zero radii (which touch nothing)
         self.room_obstacles = np.broadcast_to(fixed, (self.n, *fixed.shape)).copy()
-        self._counts = np.full(self.n, len(fixed))
         self.rooms = np.ones((self.n, 2))
         self.velocity = np.zeros((self.n, 2))
         self._half = (0.5 * robot.length, 0.5 * robot.width)
@@ -166,11 +165,11 @@ class Fleet:
         for i, o in zip(idx.tolist(), lists, strict=True):
             self.room_obstacles[i] = 0.0
             self.room_obstacles[i, : len(o)] = o
-            self._counts[i] = len(o)
 
     def obstacles_of(self, i: int) -> Array:
         """``(K_i, 3)`` the obstacles of robot ``i``'s room."""
-        return self.room_obstacles[i, : self._counts[i]].copy()
+        obstacles = self.room_obstacles[i]
+        return obstacles[obstacles[:, 2] > 0.0].copy()  # padding has zero radius
 
     def _place(self, idx: NDArray[np.intp], rooms: Array, poses: Array) -> None:
         raise NotImplementedError
