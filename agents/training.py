@@ -27,6 +27,7 @@ from stable_baselines3.common.logger import configure
 from stable_baselines3.common.vec_env import VecNormalize
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
+from agents.curriculum import StartReachCurriculum
 from agents.io import write_json
 from agents.plotting import save_figure
 from agents.residual import ResidualVecEnv
@@ -204,10 +205,14 @@ def train(
         save_path=str(out / "checkpoints"),
         save_vecnormalize=True,
     )
+    callbacks: list[BaseCallback] = [evaluation, checkpoints]
+    if config.curriculum is not None:
+        total = steps + (model.num_timesteps if resume is not None else 0)
+        callbacks.append(StartReachCurriculum(config.curriculum, total))
     start = time.perf_counter()
     model.learn(
         steps,
-        callback=[evaluation, checkpoints],
+        callback=callbacks,
         progress_bar=progress,
         reset_num_timesteps=resume is None,
     )
@@ -223,6 +228,7 @@ def train(
         "env_kwargs": _jsonable(config.env_kwargs),
         "seed": seed,
         **({"residual": config.residual.as_dict()} if config.residual else {}),
+        **({"curriculum": config.curriculum.as_dict()} if config.curriculum else {}),
         "total_timesteps": int(model.num_timesteps),
         "command": command or " ".join(sys.argv),
         "config": _jsonable(config.source),

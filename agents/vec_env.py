@@ -98,8 +98,16 @@ class NativeVecEnv(VecEnv):
         return [value for _ in self._get_indices(indices)]
 
     def set_attr(self, attr_name: str, value: Any, indices: Any = None) -> None:
-        """Not supported: the batched env has one configuration for all its envs."""
-        raise AttributeError(f"cannot set {attr_name!r} on a native vector env")
+        """Set a settable property of the batched env (``start_reach``) for all its envs.
+
+        The batched env has one configuration for all its envs: ``indices`` must name them all.
+        """
+        prop = getattr(type(self.env), attr_name, None)
+        if not (isinstance(prop, property) and prop.fset is not None):
+            raise AttributeError(f"cannot set {attr_name!r} on a native vector env")
+        if sorted(self._get_indices(indices)) != list(range(self.num_envs)):
+            raise AttributeError(f"{attr_name!r} is shared by all envs: set it for all of them")
+        setattr(self.env, attr_name, value)
 
     def env_method(
         self, method_name: str, *method_args: Any, indices: Any = None, **method_kwargs: Any

@@ -17,13 +17,14 @@ from typing import Any
 
 import yaml
 
+from agents.curriculum import CurriculumConfig
 from agents.residual import ResidualConfig
 
 __all__ = ["TrainConfig", "load_train_config", "parse_kwargs_string"]
 
 #: rl-zoo3's keys that are not the algorithm's keyword arguments
 _ZOO_KEYS = {"n_envs", "n_timesteps", "policy", "normalize", "policy_kwargs", "env_wrapper"}
-_META_KEYS = {"env_kwargs", "eval_freq", "eval_episodes", "eval_seed", "residual"}
+_META_KEYS = {"env_kwargs", "eval_freq", "eval_episodes", "eval_seed", "residual", "curriculum"}
 
 
 @dataclass(frozen=True)
@@ -54,6 +55,9 @@ class TrainConfig:
     residual
         Train a correction to an analytic policy (:class:`agents.residual.ResidualConfig`),
         or ``None`` for a policy from scratch.
+    curriculum
+        A reverse curriculum on the training envs' ``start_reach``
+        (:class:`agents.curriculum.CurriculumConfig`), or ``None``.
     source
         The file and section it came from, and the raw section (for the model's metadata).
     """
@@ -70,6 +74,7 @@ class TrainConfig:
     eval_episodes: int = 20
     eval_seed: int = 10_000
     residual: ResidualConfig | None = None
+    curriculum: CurriculumConfig | None = None
     source: dict[str, Any] = field(default_factory=dict)
 
 
@@ -236,5 +241,10 @@ def load_train_config(path: Path | str, env_id: str | None = None) -> TrainConfi
         eval_episodes=_positive_int(meta, "eval_episodes", 20, f"{path.name}[radial_ibvs_gym]"),
         eval_seed=int(meta.get("eval_seed", 10_000)),
         residual=_residual(meta.get("residual"), f"{path.name}[radial_ibvs_gym].residual"),
+        curriculum=None
+        if meta.get("curriculum") is None
+        else CurriculumConfig.from_mapping(
+            meta["curriculum"], f"{path.name}[radial_ibvs_gym].curriculum"
+        ),
         source={"file": str(path), "env_id": env_id, "section": section, "meta": meta},
     )

@@ -128,6 +128,9 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     ## Starting State
     Drawn from the scenario (``paper-sim``: start (3, 3) m heading 0, goal (7, 7) m with the
     task's yaw). ``reset(options={"start": pose, "goal": pose, "task": k})`` fixes them.
+    ``start_reach`` (constructor or attribute, in ``(0, 1]``) draws starts near the goal, for
+    a reverse curriculum: within ``start_reach`` times the scenario's start-goal distances and
+    ``start_reach * pi`` radians of the goal's heading (scenarios that start ``anywhere``).
 
     ## Episode End
     Termination: success (position error <= ``success_position_m`` and heading error <=
@@ -154,6 +157,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | ``min_visible`` | ``3`` | fewer visible landmarks terminate the episode |
     | ``terminate_on_collision`` | ``True`` | |
     | ``max_landmarks`` | ``None`` | landmark slots: pad to this many, add ``landmark_mask`` |
+    | ``start_reach`` | ``1.0`` | in (0, 1]: starts near the goal, for a curriculum (below) |
     | ``**scenario_overrides`` | | scenario keys, e.g. ``depth_scale=1.3`` |
 
     ```python
@@ -192,6 +196,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         min_visible: int = 3,
         terminate_on_collision: bool = True,
         max_landmarks: int | None = None,
+        start_reach: float = 1.0,
         w_position: float = 1.0,
         w_heading: float = 0.3,
         w_precision: float = 0.0,
@@ -230,6 +235,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         if not (3 <= min_visible <= n):
             raise ValueError(f"min_visible must be in 3..{n}, got {min_visible!r}")
         self.task = task
+        self.start_reach = start_reach
         self.physics = physics
         self.obs_mode = obs_mode
         self.action_type = action_type
@@ -387,6 +393,32 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         info = self._info(episode.start, self._prev_errors, False, False)
         return self._obs(), info
 
+    @property
+    def start_reach(self) -> float:
+        """The fraction of the start distribution drawn from, in ``(0, 1]`` (a curriculum).
+
+        At ``1`` the scenario draws starts as it says. Below, each start lies within
+        ``start_reach`` times the scenario's start-goal distance bounds of its goal, with a
+        heading within ``start_reach * pi`` radians of the goal's
+        (:meth:`radial_ibvs_gym.scenarios.Scenario.sample`). Setting it takes effect at the
+        next reset: a reverse curriculum raises it from near 0 to 1 over training. Only for
+        scenarios whose starts are ``anywhere`` (``random``, ``random-obstacles``).
+        """
+        return self._start_reach
+
+    @start_reach.setter
+    def start_reach(self, value: float) -> None:
+        if isinstance(value, bool) or not isinstance(value, int | float) or not 0 < value <= 1:
+            raise ValueError(f"start_reach must be a number in (0, 1], got {value!r}")
+        tasks = range(self.scenario.n_tasks) if self.task is None else [self.task]
+        fixed = [t for t in tasks if self.scenario.config.tasks[t].start != "anywhere"]
+        if value < 1 and fixed:
+            raise ValueError(
+                f"start_reach={value!r} needs starts drawn 'anywhere'; scenario "
+                f"{self.scenario.config.name!r} fixes the start of task(s) {fixed}"
+            )
+        self._start_reach = float(value)
+
     def setup_episode(
         self, rng: np.random.Generator, task: int | None, options: dict[str, Any]
     ) -> EpisodeSetup:
@@ -466,7 +498,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self, rng: np.random.Generator, task: int | None, options: dict[str, Any]
     ) -> Episode:
         """Draw an episode from the scenario, with the start and goal ``options`` applied."""
-        episode = self.scenario.sample(rng, task=task)
+        episode = self.scenario.sample(rng, task=task, reach=self._start_reach)
         for key in ("start", "goal"):
             if key in options:
                 pose = np.asarray(options[key], dtype=np.float64)

@@ -157,6 +157,18 @@ class ParkingVectorEnv(VectorEnv):
                 {} for _ in range(n)
             ]
 
+    @property
+    def start_reach(self) -> float:
+        """The scalar env's ``start_reach`` (a curriculum knob), shared by every env.
+
+        Setting it takes effect at each env's next reset (autoresets included).
+        """
+        return self.template.start_reach
+
+    @start_reach.setter
+    def start_reach(self, value: float) -> None:
+        self.template.start_reach = value
+
     # --- reset ---------------------------------------------------------------------------------
     def reset(
         self,

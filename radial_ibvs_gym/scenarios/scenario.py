@@ -141,6 +141,25 @@ class Scenario:
             return rng.uniform([c, c, -np.pi], [room[0] - c, room[1] - c, np.pi])
         return np.array(spec, dtype=np.float64)
 
+    def _near(
+        self, goal: np.ndarray, room: np.ndarray, reach: float, rng: np.random.Generator
+    ) -> np.ndarray:
+        """Draw a start around ``goal``: ``reach`` times the distance bounds and half-turn."""
+        c = self.config
+        far = c.max_start_goal_distance
+        if not math.isfinite(far):
+            far = float(np.hypot(*room))
+        distance = rng.uniform(reach * c.min_start_goal_distance, reach * far)
+        direction = rng.uniform(-np.pi, np.pi)
+        heading = goal[2] + rng.uniform(-reach * np.pi, reach * np.pi)
+        return np.array(
+            [
+                goal[0] + distance * np.cos(direction),
+                goal[1] + distance * np.sin(direction),
+                (heading + np.pi) % (2.0 * np.pi) - np.pi,
+            ]
+        )
+
     def _landmarks(self, room: np.ndarray, rng: np.random.Generator) -> np.ndarray:
         spec = self.config.random_landmarks
         if spec is None:
@@ -190,7 +209,9 @@ class Scenario:
                 drawn.append(np.array([centre[0], centre[1], radius]))
         return np.concatenate([fixed, np.array(drawn).reshape(-1, 3)])
 
-    def sample(self, rng: np.random.Generator, task: int | None = None) -> Episode:
+    def sample(
+        self, rng: np.random.Generator, task: int | None = None, reach: float = 1.0
+    ) -> Episode:
         """Draw an episode.
 
         Parameters
@@ -199,6 +220,13 @@ class Scenario:
             The random generator (the env's ``np_random``).
         task
             Task index; ``None`` draws one uniformly.
+        reach
+            In ``(0, 1]``: the fraction of the start distribution used, for a reverse
+            curriculum. At ``1`` (default) the start is drawn as the scenario says. Below,
+            the goal is drawn first and the start around it: at a distance drawn uniformly in
+            ``reach`` times the scenario's distance bounds (metres; the room's diagonal stands
+            for an unbounded maximum), in any direction, with a heading within
+            ``reach * pi`` radians of the goal's. Only for tasks whose start is ``anywhere``.
 
         Returns
         -------
@@ -218,6 +246,13 @@ class Scenario:
         elif not (isinstance(task, (int, np.integer)) and 0 <= task < self.n_tasks):
             raise ValueError(f"task must be in 0..{self.n_tasks - 1}, got {task!r}")
         spec = c.tasks[task]
+        if not (isinstance(reach, (int, float)) and 0.0 < reach <= 1.0):
+            raise ValueError(f"reach must be a number in (0, 1], got {reach!r}")
+        if reach < 1.0 and spec.start != "anywhere":
+            raise ValueError(
+                f"scenario {c.name!r}, task {task}: reach < 1 needs a start 'anywhere', "
+                f"not {spec.start!r}"
+            )
         for _ in range(MAX_TRIES):
             room = (
                 np.array([rng.uniform(*c.random_room.width), rng.uniform(*c.random_room.depth)])
@@ -226,12 +261,18 @@ class Scenario:
             )
             landmarks = self._landmarks(room, rng)
             obstacles = self._obstacles(room, rng)
-            start = self._pose(spec.start, room, rng)
-            goal = self._pose(spec.goal, room, rng)
+            if reach < 1.0:
+                goal = self._pose(spec.goal, room, rng)
+                start = self._near(goal, room, reach, rng)
+            else:
+                start = self._pose(spec.start, room, rng)
+                goal = self._pose(spec.goal, room, rng)
             dist = float(np.hypot(*(goal[:2] - start[:2])))
             if not (self._inside(start, room, obstacles) and self._inside(goal, room, obstacles)):
                 continue
-            if not (c.min_start_goal_distance <= dist <= c.max_start_goal_distance):
+            if reach == 1.0 and not (
+                c.min_start_goal_distance <= dist <= c.max_start_goal_distance
+            ):  # below 1, _near drew the distance within the scaled bounds
                 continue
             need = c.min_visible_at_goal
             if self._visible_count(goal, landmarks, self.goal_camera) < need:
