@@ -148,6 +148,15 @@ def _schedule(value: Any, where: str) -> Any:
     return value
 
 
+def _replay_buffer_class(name: Any, where: str) -> type:
+    """rl-zoo3's ``replay_buffer_class: HerReplayBuffer`` (the one buffer name it takes)."""
+    if name != "HerReplayBuffer":
+        raise ValueError(f"{where} must be 'HerReplayBuffer', got {name!r}")
+    from stable_baselines3 import HerReplayBuffer
+
+    return HerReplayBuffer
+
+
 def _positive_int(section: Mapping[str, Any], key: str, default: int, where: str) -> int:
     value = section.get(key, default)
     if isinstance(value, float) and value.is_integer():
@@ -222,6 +231,14 @@ def load_train_config(path: Path | str, env_id: str | None = None) -> TrainConfi
         for key, value in section.items()
         if key not in _ZOO_KEYS
     }
+    if "replay_buffer_class" in algo_kwargs:
+        algo_kwargs["replay_buffer_class"] = _replay_buffer_class(
+            algo_kwargs["replay_buffer_class"], f"{where}.replay_buffer_class"
+        )
+    if isinstance(algo_kwargs.get("replay_buffer_kwargs"), str):
+        algo_kwargs["replay_buffer_kwargs"] = parse_kwargs_string(
+            algo_kwargs["replay_buffer_kwargs"], f"{where}.replay_buffer_kwargs"
+        )
     for key, value in algo_kwargs.items():
         if isinstance(value, float) and not math.isfinite(value):
             raise ValueError(f"{where}.{key} must be finite, got {value!r}")

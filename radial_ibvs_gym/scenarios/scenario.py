@@ -246,7 +246,7 @@ class Scenario:
         elif not (isinstance(task, (int, np.integer)) and 0 <= task < self.n_tasks):
             raise ValueError(f"task must be in 0..{self.n_tasks - 1}, got {task!r}")
         spec = c.tasks[task]
-        if not (isinstance(reach, (int, float)) and 0.0 < reach <= 1.0):
+        if isinstance(reach, bool) or not (isinstance(reach, int | float) and 0.0 < reach <= 1.0):
             raise ValueError(f"reach must be a number in (0, 1], got {reach!r}")
         if reach < 1.0 and spec.start != "anywhere":
             raise ValueError(
