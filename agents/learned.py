@@ -54,6 +54,11 @@ class LearnedPolicy:
         return f"LearnedPolicy({self.name!r}, algo={self.metadata.get('algo')!r})"
 
     @property
+    def env_id(self) -> str:
+        """The Gymnasium id the model was trained on (``RadialIBVS/Parking-v0`` by default)."""
+        return str(self.metadata.get("env_id", "RadialIBVS/Parking-v0"))
+
+    @property
     def env_kwargs(self) -> dict[str, Any]:
         """The ``gym.make`` arguments the model was trained with (observation layout)."""
         return dict(self.metadata.get("env_kwargs", {}))
@@ -168,8 +173,14 @@ def load(name_or_path: str | Path) -> Any:
     algo = metadata.get("algo")
     if algo not in ALGOS:
         raise ValueError(f"model {str(name_or_path)!r}: unknown algo {algo!r} in {meta_path}")
+    # off-policy models: no replay buffer to predict (a HER buffer would even need the env)
+    inference = (
+        {"replay_buffer_class": None, "replay_buffer_kwargs": {}, "buffer_size": 1}
+        if algo != "ppo"
+        else None
+    )
     try:
-        model = ALGOS[algo].load(zip_path, device="cpu")
+        model = ALGOS[algo].load(zip_path, device="cpu", custom_objects=inference)
     except (zipfile.BadZipFile, ValueError, KeyError, RuntimeError, EOFError) as error:
         raise ValueError(f"model {str(name_or_path)!r}: {zip_path} is corrupt: {error}") from None
     norm_path = directory / "normalization.npz"

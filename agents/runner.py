@@ -76,7 +76,7 @@ def make_env(
     scenario: str | None = None,
     overrides: Mapping[str, Any] | None = None,
     *,
-    env_id: str = DEFAULT_ENV_ID,
+    env_id: str | None = None,
     **make_kwargs: Any,
 ) -> gym.Env:
     """Make the env ``policy`` needs (:func:`env_kwargs_for`) and check that the policy fits it.
@@ -86,7 +86,8 @@ def make_env(
     policy, scenario, overrides
         As :func:`env_kwargs_for`.
     env_id
-        The Gymnasium id.
+        The Gymnasium id; default: the policy's ``env_id`` (a learned model's training env),
+        else :data:`DEFAULT_ENV_ID`.
     **make_kwargs
         ``gym.make`` keywords that are not env settings (``render_mode``,
         ``max_episode_steps``).
@@ -97,6 +98,7 @@ def make_env(
         For a bad keyword, or a learned model whose observation space differs from the env's
         (the env is closed first).
     """
+    env_id = env_id or getattr(policy, "env_id", None) or DEFAULT_ENV_ID
     env = gym.make(env_id, **make_kwargs, **env_kwargs_for(policy, scenario, overrides))
     if hasattr(policy, "check_observation_space"):
         try:
@@ -105,6 +107,19 @@ def make_env(
             env.close()
             raise
     return env
+
+
+def _image(obs: Mapping[str, Any]) -> tuple[Any, Any, Any]:
+    """Return the current points, their visibility and the goal points of an observation.
+
+    ``Parking-v0`` has them as ``points``, ``visible`` and ``goal_points``; the goal-conditioned
+    ``ParkingGoal-v0`` as ``achieved_goal``, the last third of ``observation`` and
+    ``desired_goal``.
+    """
+    if "points" in obs:
+        return obs["points"], obs["visible"], obs["goal_points"]
+    n = len(obs["achieved_goal"]) // 2
+    return obs["achieved_goal"], obs["observation"][2 * n :], obs["desired_goal"]
 
 
 @dataclass
@@ -288,7 +303,8 @@ def run_episode(
     obs, info = env.reset(seed=seed, options=options)
     frames = [np.asarray(env.render())] if record_frames else []
     base = env.unwrapped
-    poses, points, visible = [info["robot_pose"]], [obs["points"]], [obs["visible"]]
+    image = _image(obs)
+    poses, points, visible = [info["robot_pose"]], [image[0]], [image[1]]
     actions: list[np.ndarray] = []
     state, episode_start, compute = None, np.ones(1, dtype=bool), 0.0
     limit = math.inf if max_steps is None else max_steps
@@ -301,13 +317,14 @@ def run_episode(
         obs, _, terminated, truncated, info = env.step(action)
         poses.append(info["robot_pose"])
         actions.append(np.asarray(action, dtype=np.float64))
-        points.append(obs["points"])
-        visible.append(obs["visible"])
+        image = _image(obs)
+        points.append(image[0])
+        visible.append(image[1])
         if record_frames:
             frames.append(np.asarray(env.render()))
         if terminated or truncated:
             break
-    n = len(obs["visible"])
+    n = len(visible[-1])
     return EpisodeLog(
         policy=policy_name or type(policy).__name__,
         scenario=base.scenario.config.name if hasattr(base, "scenario") else "?",
@@ -319,7 +336,7 @@ def run_episode(
         actions=np.array(actions, dtype=np.float64).reshape(-1, 2),
         points=np.array(points, dtype=np.float64).reshape(-1, n, 2),
         visible=np.array(visible).reshape(-1, n) > 0.5,
-        goal_points=np.asarray(obs["goal_points"], dtype=np.float64).reshape(n, 2),
+        goal_points=np.asarray(image[2], dtype=np.float64).reshape(n, 2),
         info=info,
         compute_s=compute,
         frames=frames,

@@ -154,6 +154,13 @@ def test_the_her_config_builds_sac_with_her(tmp_path: Path) -> None:
     small.algo_kwargs.update(learning_starts=100, buffer_size=2000)
     out = train(small, tmp_path / "sac", algo="sac", total_timesteps=300, progress=False)
     assert (out / "model.zip").is_file()
+    # the benchmark runs it in its own env (ParkingGoal-v0), like any other policy
+    from agents.experiments.jobs import Job, run_job
+    from agents.experiments.suites import SUITES
+
+    result = run_job(Job(str(out), SUITES["held-out"][0], 2))
+    assert result.skipped is None and len(result.rows) == 2
+    assert all(row["steps"] <= 20 for row in result.rows)
     bad = tmp_path / "bad.yaml"
     bad.write_text("RadialIBVS/ParkingGoal-v0:\n  replay_buffer_class: Foo\n")
     with pytest.raises(ValueError, match="must be 'HerReplayBuffer', got 'Foo'"):

@@ -11,7 +11,7 @@ import yaml
 from tqdm import tqdm  # text bars: no ipywidgets needed in Jupyter
 
 from agents import make_policy
-from agents.runner import DEFAULT_ENV_ID, EpisodeLog, make_env, run_episode
+from agents.runner import EpisodeLog, make_env, run_episode
 
 __all__ = ["evaluate", "parse_env_kwargs", "summarise", "wilson_interval"]
 
@@ -44,7 +44,7 @@ def evaluate(
     episodes: int = 10,
     seed: int = 0,
     env_kwargs: Mapping[str, Any] | None = None,
-    env_id: str = DEFAULT_ENV_ID,
+    env_id: str | None = None,
     suite: str | None = None,
     progress: bool = True,
 ) -> list[EpisodeLog]:
