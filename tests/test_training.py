@@ -25,7 +25,6 @@ def trained(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("train") / "ppo"
     argv = ["train", "--algo", "ppo", "--config", str(CONFIG), "--total-timesteps", "512"]
     argv += ["--out", str(out), "--seed", "3", "--no-progress", "--env-kwarg", "task=1"]
-    argv += ["--env-kwarg", "max_landmarks=null"]  # 8 landmarks: paper-lab's 9 do not fit
     assert main(argv) == 0
     return out
 
@@ -80,11 +79,7 @@ def test_learned_policy_matches_sb3_with_vecnormalize(trained: Path) -> None:
 def test_training_resumes_from_its_checkpoint(trained: Path, tmp_path: Path) -> None:
     config = load_train_config(CONFIG)
     config = type(config)(
-        **{
-            **config.__dict__,
-            "n_envs": 2,
-            "env_kwargs": {**config.env_kwargs, "task": 1, "max_landmarks": None},
-        }
+        **{**config.__dict__, "n_envs": 2, "env_kwargs": {**config.env_kwargs, "task": 1}}
     )
     out = train(config, tmp_path / "more", resume=trained, total_timesteps=256, progress=False)
     metadata = json.loads((out / "metadata.json").read_text())
