@@ -174,7 +174,7 @@ def load(name_or_path: str | Path) -> Any:
     if algo not in ALGOS:
         raise ValueError(f"model {str(name_or_path)!r}: unknown algo {algo!r} in {meta_path}")
     # off-policy models: no replay buffer to predict (a HER buffer would even need the env)
-    inference = (
+    inference: dict[str, Any] | None = (
         {"replay_buffer_class": None, "replay_buffer_kwargs": {}, "buffer_size": 1}
         if algo != "ppo"
         else None

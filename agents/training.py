@@ -217,6 +217,7 @@ def train(
         reset_num_timesteps=resume is None,
     )
     wall = time.perf_counter() - start
+    model.logger.close()  # flush and close logs/progress.csv
     model.save(out / "model.zip")
     if isinstance(venv, VecNormalize):
         save_normalization(venv, out / "normalization.npz")
