@@ -1,6 +1,7 @@
 """Residual policies: a learned, bounded correction on top of an analytic policy.
 
-The env receives ``clip(base + scale * a, -1, 1)``, where ``base`` is the analytic policy's
+The env receives ``clip(base + w * a, -1, 1)`` (``w = scale``, faded near the goal by an
+optional ``gate``: :meth:`ResidualConfig.combine`), where ``base`` is the analytic policy's
 action (the paper's IBVS by default) and ``a`` in ``[-1, 1]^2`` is the learned policy's. The
 learned policy sees the env's observation plus ``base_action``. A freshly initialised SB3
 policy has a mean action of about zero (its last layer is initialised with a gain of 0.01), so
@@ -97,7 +98,7 @@ class ResidualConfig:
 
 
 class ResidualVecEnv(VecEnvWrapper):
-    """Train a correction to a base policy: the env steps ``clip(base + scale * a, -1, 1)``.
+    """Train a correction to a base policy: the env steps ``ResidualConfig.combine(base, a)``.
 
     Parameters
     ----------
@@ -133,7 +134,7 @@ class ResidualVecEnv(VecEnvWrapper):
         return self._with_base(self.venv.reset())  # type: ignore[arg-type]
 
     def step_async(self, actions: np.ndarray) -> None:
-        """Step with ``clip(base + scale * actions, -1, 1)``."""
+        """Step with ``clip(base + w * actions, -1, 1)`` (:meth:`ResidualConfig.combine`)."""
         self.venv.step_async(self.residual.combine(self._base_actions, actions))
 
     def step_wait(self) -> Any:
@@ -193,7 +194,7 @@ class ResidualPolicy:
         episode_start: np.ndarray | None = None,
         deterministic: bool = True,
     ) -> tuple[np.ndarray, Any]:
-        """``clip(base + scale * correction, -1, 1)`` for one observation or a batch."""
+        """``clip(base + w * correction, -1, 1)`` for one observation or a batch (``combine``)."""
         base = np.asarray(self.base.predict(observation)[0], dtype=np.float32)
         correction, state = self.learned.predict(
             {**observation, BASE_KEY: base}, state, episode_start, deterministic

@@ -408,16 +408,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     @start_reach.setter
     def start_reach(self, value: float) -> None:
-        if isinstance(value, bool) or not isinstance(value, int | float) or not 0 < value <= 1:
-            raise ValueError(f"start_reach must be a number in (0, 1], got {value!r}")
-        tasks = range(self.scenario.n_tasks) if self.task is None else [self.task]
-        fixed = [t for t in tasks if self.scenario.config.tasks[t].start != "anywhere"]
-        if value < 1 and fixed:
-            raise ValueError(
-                f"start_reach={value!r} needs starts drawn 'anywhere'; scenario "
-                f"{self.scenario.config.name!r} fixes the start of task(s) {fixed}"
-            )
-        self._start_reach = float(value)
+        tasks = None if self.task is None else [self.task]
+        self._start_reach = self.scenario.check_reach(value, tasks, "start_reach")
 
     def setup_episode(
         self, rng: np.random.Generator, task: int | None, options: dict[str, Any]

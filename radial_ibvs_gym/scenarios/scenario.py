@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from pathlib import Path
 from typing import Any, NamedTuple
 
@@ -141,6 +142,27 @@ class Scenario:
             return rng.uniform([c, c, -np.pi], [room[0] - c, room[1] - c, np.pi])
         return np.array(spec, dtype=np.float64)
 
+    def check_reach(
+        self, reach: float, tasks: Sequence[int] | None = None, name: str = "reach"
+    ) -> float:
+        """Validate a start reach (:meth:`sample`) for ``tasks`` (default: all); return it.
+
+        Raises
+        ------
+        ValueError
+            Unless ``reach`` is a number in ``(0, 1]``, and 1 for tasks with a fixed start.
+        """
+        if isinstance(reach, bool) or not (isinstance(reach, int | float) and 0.0 < reach <= 1.0):
+            raise ValueError(f"{name} must be a number in (0, 1], got {reach!r}")
+        tasks = range(self.n_tasks) if tasks is None else tasks
+        fixed = [t for t in tasks if self.config.tasks[t].start != "anywhere"]
+        if reach < 1.0 and fixed:
+            raise ValueError(
+                f"{name} < 1 needs a start 'anywhere' (got {reach!r}); scenario "
+                f"{self.config.name!r} fixes the start of task(s) {fixed}"
+            )
+        return float(reach)
+
     def _near(
         self, goal: np.ndarray, room: np.ndarray, reach: float, rng: np.random.Generator
     ) -> np.ndarray:
@@ -246,13 +268,7 @@ class Scenario:
         elif not (isinstance(task, (int, np.integer)) and 0 <= task < self.n_tasks):
             raise ValueError(f"task must be in 0..{self.n_tasks - 1}, got {task!r}")
         spec = c.tasks[task]
-        if isinstance(reach, bool) or not (isinstance(reach, int | float) and 0.0 < reach <= 1.0):
-            raise ValueError(f"reach must be a number in (0, 1], got {reach!r}")
-        if reach < 1.0 and spec.start != "anywhere":
-            raise ValueError(
-                f"scenario {c.name!r}, task {task}: reach < 1 needs a start 'anywhere', "
-                f"not {spec.start!r}"
-            )
+        reach = self.check_reach(reach, [task])
         for _ in range(MAX_TRIES):
             room = (
                 np.array([rng.uniform(*c.random_room.width), rng.uniform(*c.random_room.depth)])
