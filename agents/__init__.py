@@ -10,11 +10,9 @@ episode_start=None, deterministic=True) -> (action, state)`` and says, in ``env_
 
 from typing import Any
 
-from agents.ibvs import VARIANTS, IBVSPolicy
+from agents.analytic import VARIANTS, IBVSPolicy, PoseOracle, SmoothControlLaw, curvature, ego_polar
 from agents.learned import LearnedPolicy, load, shipped_models
-from agents.oracle import PoseOracle
 from agents.registry import POLICY_NAMES, Policy, RandomPolicy, make_policy
-from agents.smooth_control import SmoothControlLaw, curvature, ego_polar
 
 __all__ = [
     "POLICY_NAMES",
@@ -37,7 +35,7 @@ __all__ = [
 def __getattr__(name: str) -> Any:
     """Import :func:`make_vec_env` on first use (it loads stable-baselines3 and torch)."""
     if name == "make_vec_env":
-        from agents.vec_env import make_vec_env
+        from agents.learned.sb3_vec_env import make_vec_env
 
         return make_vec_env
     raise AttributeError(f"module 'agents' has no attribute {name!r}")

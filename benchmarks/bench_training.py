@@ -8,7 +8,7 @@ Usage: ``python benchmarks/bench_training.py [--quick]`` (or ``make bench``).
    4096, 5 epochs, one torch thread, rollouts of 16,384 steps) on ``agents.make_vec_env`` with
    64 and 256 envs, on SB3's ``DummyVecEnv`` of scalar envs, and on a no-op ``VecEnv`` with the
    same spaces (an env that costs nothing: the fastest this PPO can go).
-3. Each shipped model's training log (``agents/models/<name>/progress.csv``): when its
+3. Each shipped model's training log (``agents/learned/models/<name>/progress.csv``): when its
    held-out success rate first reached the paper's IBVS on the same scenario.
 """
 
@@ -28,8 +28,8 @@ import numpy as np
 from stable_baselines3.common.vec_env import VecEnv
 
 from agents.learned import MODELS_DIR, shipped_models
-from agents.training import train
-from agents.zoo import load_train_config
+from agents.learned.training import train
+from agents.learned.zoo_config import load_train_config
 
 ROOT = Path(__file__).resolve().parents[1]
 #: the paper's IBVS success rate on the models' scenarios (2 cm / 2 deg; `radial-ibvs benchmark`:

@@ -14,10 +14,10 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import radial_ibvs_gym  # noqa: F401
-from agents.curriculum import CurriculumConfig
-from agents.training import train
-from agents.vec_env import make_vec_env
-from agents.zoo import load_train_config
+from agents.learned.curriculum import CurriculumConfig
+from agents.learned.sb3_vec_env import make_vec_env
+from agents.learned.training import train
+from agents.learned.zoo_config import load_train_config
 from radial_ibvs_gym.geometry import wrap_angle
 from radial_ibvs_gym.scenarios import load_scenario
 

@@ -1,5 +1,8 @@
 """Imports flow one way: maths -> simulation -> envs, and ``agents`` -> ``radial_ibvs_gym``.
 
+Inside ``agents`` too: utilities -> analytic -> learned -> the registry and runner ->
+experiments -> CLI.
+
 Checked twice: on the source (every ``import`` statement, lazy ones inside functions included,
 but not those under ``TYPE_CHECKING``) and in a fresh interpreter (what importing a layer
 really loads, transitively).
@@ -112,6 +115,59 @@ def test_the_import_graph_has_no_cycle() -> None:
             visit(module, [module])
 
 
+#: the rooms of ``agents``, lower first: a module may import only its own room and lower ones
+AGENT_ROOMS = ("utilities", "analytic", "learned", "policies", "experiments", "cli")
+#: the loose modules of ``agents``: the shared utilities, and on top of both kinds of policy,
+#: the registry of every policy by name and the episode runner
+AGENT_LOOSE = {
+    "agents.io": "utilities",
+    "agents.plotting": "utilities",
+    "agents.stats": "utilities",
+    "agents": "policies",
+    "agents.registry": "policies",
+    "agents.runner": "policies",
+}
+#: at most this many loose modules in ``agents/`` besides ``__init__.py``
+MAX_LOOSE = 6
+
+
+def _room(module: str) -> str:
+    parts = module.split(".")
+    if len(parts) > 1 and parts[1] in ("analytic", "learned", "experiments", "cli"):
+        return parts[1]
+    if module not in AGENT_LOOSE:
+        raise AssertionError(f"{module} is in no room: add it to a room or to AGENT_LOOSE")
+    return AGENT_LOOSE[module]
+
+
+def test_agents_has_few_loose_modules_and_every_module_has_a_room() -> None:
+    loose = sorted(p.stem for p in (ROOT / "agents").glob("*.py") if p.stem != "__init__")
+    assert len(loose) <= MAX_LOOSE, loose
+    for module in MODULES:
+        if module.split(".")[0] == "agents":
+            _room(module)
+
+
+@pytest.mark.parametrize("room", AGENT_ROOMS)
+def test_each_room_of_agents_imports_only_itself_and_lower_rooms(room: str) -> None:
+    allowed = set(AGENT_ROOMS[: AGENT_ROOMS.index(room) + 1])
+    modules = [m for m in MODULES if m.split(".")[0] == "agents" and _room(m) == room]
+    assert modules, f"no module found in room {room}"
+    for module in modules:
+        for name in _imports(MODULES[module]):
+            if name.split(".")[0] != "agents":
+                continue
+            target = name if name in MODULES else name.rsplit(".", 1)[0]
+            assert _room(target) in allowed, f"{module} ({room}) imports {name} ({_room(target)})"
+
+
+def test_the_analytic_policies_import_no_learning_stack() -> None:
+    for module, path in MODULES.items():
+        if module.startswith("agents.analytic"):
+            bad = [n for n in _imports(path) if n.split(".")[0] in ("torch", "stable_baselines3")]
+            assert not bad, f"{module} imports {bad}"
+
+
 def _loaded_after(statement: str) -> list[str]:
     code = (
         f"import json, sys; {statement}; "
@@ -126,6 +182,12 @@ def _loaded_after(statement: str) -> list[str]:
 @pytest.mark.parametrize("module", MATHS)
 def test_importing_the_maths_loads_nothing_heavier_than_numpy(module: str) -> None:
     assert _loaded_after(f"import {module}") == []
+
+
+@pytest.mark.parametrize("module", ["agents", "agents.analytic", "agents.learned"])
+def test_importing_the_policies_loads_no_torch(module: str) -> None:
+    loaded = _loaded_after(f"import {module}")
+    assert "torch" not in loaded and "stable_baselines3" not in loaded, loaded
 
 
 def test_importing_the_vision_and_the_physics_loads_no_rl_stack() -> None:

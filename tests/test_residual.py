@@ -9,12 +9,12 @@ import numpy as np
 import pytest
 import yaml
 
-from agents.ibvs import IBVSPolicy
+from agents.analytic.ibvs_policy import IBVSPolicy
 from agents.learned import load
-from agents.residual import BASE_KEY, ResidualConfig, ResidualPolicy, ResidualVecEnv
-from agents.training import export_model, train
-from agents.vec_env import make_vec_env
-from agents.zoo import load_train_config
+from agents.learned.residual import BASE_KEY, ResidualConfig, ResidualPolicy, ResidualVecEnv
+from agents.learned.sb3_vec_env import make_vec_env
+from agents.learned.training import export_model, train
+from agents.learned.zoo_config import load_train_config
 
 CONFIG = Path(__file__).resolve().parents[1] / "configs" / "agents" / "ppo_residual.yaml"
 ENV_KWARGS = {

@@ -13,8 +13,8 @@ import radial_ibvs_gym  # noqa: F401
 from agents import make_policy
 from agents.cli import main
 from agents.learned import LearnedPolicy, load
-from agents.training import train
-from agents.zoo import load_train_config, parse_kwargs_string
+from agents.learned.training import train
+from agents.learned.zoo_config import load_train_config, parse_kwargs_string
 
 CONFIG = Path(__file__).resolve().parents[1] / "configs" / "agents" / "ppo_parking.yaml"
 
@@ -173,7 +173,7 @@ def test_benchmark_skips_a_model_whose_observations_do_not_fit_the_suite(trained
 
 
 def test_export_keeps_a_small_loadable_model_directory(trained: Path, tmp_path: Path) -> None:
-    from agents.training import export_model
+    from agents.learned.training import export_model
 
     dest = export_model(trained, tmp_path / "ppo-test")
     names = {p.name for p in dest.iterdir()}

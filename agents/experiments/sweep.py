@@ -53,8 +53,8 @@ def _train_seed(run: SeedRun) -> bytes:
     """Train one seed in a scratch directory; return the model directory as a zip archive."""
     import torch
 
-    from agents.training import train
-    from agents.zoo import load_train_config
+    from agents.learned.training import train
+    from agents.learned.zoo_config import load_train_config
 
     torch.set_num_threads(1)
     with tempfile.TemporaryDirectory() as scratch:
@@ -109,7 +109,8 @@ def run_sweep(
     Parameters
     ----------
     config
-        The training config (:func:`agents.zoo.load_train_config`; validated here first).
+        The training config (:func:`agents.learned.zoo_config.load_train_config`; validated here
+        first).
     seeds
         Training seeds (distinct).
     out
@@ -138,8 +139,8 @@ def run_sweep(
     ValueError
         For a bad config, repeated seeds, an unknown backend or algo, or Ray missing.
     """
-    from agents.training import ALGOS
-    from agents.zoo import load_train_config
+    from agents.learned.training import ALGOS
+    from agents.learned.zoo_config import load_train_config
 
     config_path = Path(config)
     load_train_config(config_path, env_id)  # fail early, naming the bad value

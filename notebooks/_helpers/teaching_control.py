@@ -34,10 +34,10 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
+from agents.analytic.ibvs_policy import IBVSPolicy
 from agents.experiments.benchmark_plots import draw_convergence_map, starts_in_goal_frame
-from agents.ibvs import IBVSPolicy
+from agents.learned.zoo_config import TrainConfig
 from agents.runner import EpisodeLog, make_env, run_episode
-from agents.zoo import TrainConfig
 from radial_ibvs_gym._validation import as_float_array
 from radial_ibvs_gym.camera import radial_points
 from radial_ibvs_gym.geometry import relative_pose, world_to_camera
@@ -151,8 +151,8 @@ def ibvs_estimates(
     Parameters
     ----------
     policy
-        An :class:`~agents.ibvs.IBVSPolicy` (variant ``paper`` or ``no-frame-change``: the
-        ones that need only the goal depths).
+        An :class:`~agents.analytic.ibvs_policy.IBVSPolicy` (variant ``paper`` or
+        ``no-frame-change``: the ones that need only the goal depths).
     landmarks
         ``(N, 3)`` landmark positions, world frame, metres.
     robot_poses
@@ -297,7 +297,7 @@ def small_train_config(
     Parameters
     ----------
     config
-        The config (:func:`agents.zoo.load_train_config`).
+        The config (:func:`agents.learned.zoo_config.load_train_config`).
     n_envs
         Parallel envs.
     n_steps

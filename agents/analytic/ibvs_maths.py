@@ -141,9 +141,9 @@ def robot_command(
     The camera velocity defines a virtual target in the robot frame: distance
     ``r = |v| / lambda``, direction ``delta = atan2(v_y, v_x)``, orientation ``gamma`` relative
     to the robot (Section 4: ``v_l / r = lambda``). The smooth control law's curvature towards
-    that target (nav2's conventions, :mod:`agents.smooth_control`) gives ``omega = kappa v_l``
-    with ``v_l = |v|``; speed limits scale ``v_l`` and ``omega`` together, keeping the curvature
-    (so the path does not depend on them).
+    that target (nav2's conventions, :mod:`agents.analytic.smooth_control`) gives
+    ``omega = kappa v_l`` with ``v_l = |v|``; speed limits scale ``v_l`` and ``omega``
+    together, keeping the curvature (so the path does not depend on them).
 
     Parameters
     ----------
@@ -160,7 +160,7 @@ def robot_command(
     allow_backward
         Drive backwards when the virtual target is behind the robot (``v_x < 0``), as nav2's
         graceful controller does with ``allow_backward``: the law of eq. (38) with the line
-        of sight flipped (:func:`~agents.smooth_control.ego_polar` ``backward=True``) and a
+        of sight flipped (:func:`~agents.analytic.smooth_control.ego_polar` ``backward=True``) and a
         negative ``v_l``. Off (forward only, the paper's law) by default.
 
     Returns
@@ -168,7 +168,7 @@ def robot_command(
     tuple of float
         ``(v_l, omega)``; zero when ``|v|`` vanishes.
     """
-    from agents.smooth_control import curvature, ego_polar
+    from agents.analytic.smooth_control import curvature, ego_polar
 
     v_l = float(np.hypot(v[0], v[1]))
     if v_l <= 1e-12:

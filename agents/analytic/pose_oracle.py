@@ -12,8 +12,8 @@ from typing import Any
 
 import numpy as np
 
-from agents.ibvs_core import park_command
-from agents.smooth_control import SmoothControlLaw, ego_polar
+from agents.analytic.ibvs_maths import park_command
+from agents.analytic.smooth_control import SmoothControlLaw, ego_polar
 from radial_ibvs_gym.geometry import wrap_angle_scalar
 from radial_ibvs_gym.physics import RobotConfig
 
@@ -25,8 +25,8 @@ class PoseOracle:
 
     By default the speed follows the paper's mapping, as the IBVS does: the virtual target is
     the true goal in the robot frame, ``v_l = lam r``, ``omega = kappa v_l`` (eq. 38), speed
-    limits scaling both (:func:`agents.ibvs_core.robot_command`), so the oracle and the IBVS
-    differ only in where ``r, phi, delta`` come from (the paper's "real 3D parameters"
+    limits scaling both (:func:`agents.analytic.ibvs_maths.robot_command`), so the oracle and the
+    IBVS differ only in where ``r, phi, delta`` come from (the paper's "real 3D parameters"
     comparison). With ``law`` set, the speeds come from that :class:`SmoothControlLaw`
     instead (nav2's speed-from-curvature rule).
 
@@ -44,7 +44,8 @@ class PoseOracle:
         below ``stop_heading`` (radians).
     rotate_radius
         Within this distance of the goal (metres), the final approach of
-        :func:`agents.ibvs_core.park_command` (drive the forward part, turn to the goal heading).
+        :func:`agents.analytic.ibvs_maths.park_command` (drive the forward part, turn to the goal
+        heading).
     law
         Optional nav2-style speed law (its ``v_max``/``omega_max`` should be the robot's).
     allow_backward

@@ -1,12 +1,12 @@
-"""The batched IBVS (agents.ibvs_batch) against the one-robot-at-a-time policy."""
+"""The batched IBVS (agents.analytic.ibvs_maths_batch) against the one-robot-at-a-time policy."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from agents.ibvs import IBVSPolicy
-from agents.vec_env import make_vec_env
+from agents.analytic.ibvs_policy import IBVSPolicy
+from agents.learned.sb3_vec_env import make_vec_env
 
 
 def _observations(n_envs: int = 32, steps: int = 60, seed: int = 3) -> list[dict[str, np.ndarray]]:

@@ -31,8 +31,8 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from agents.ibvs_batch import ibvs_twist_batch, park_command_batch
-from agents.ibvs_core import GoalModel, ibvs_twist, park_command
+from agents.analytic.ibvs_maths import GoalModel, ibvs_twist, park_command
+from agents.analytic.ibvs_maths_batch import ibvs_twist_batch, park_command_batch
 from radial_ibvs_gym.features import L_alpha_m, L_cij, alpha_m, c_ij
 from radial_ibvs_gym.geometry import wrap_angle_scalar
 from radial_ibvs_gym.physics import RobotConfig
@@ -65,15 +65,15 @@ class IBVSPolicy:
     rotate_radius
         Within this estimated distance (metres), the final approach: drive the forward part
         of ``v`` and turn to the goal heading (``omega = lam * gamma``) instead of following
-        eq. (38), which is singular at ``r = 0`` (:func:`agents.ibvs_core.park_command`);
+        eq. (38), which is singular at ``r = 0`` (:func:`agents.analytic.ibvs_maths.park_command`);
         0 never does.
     compensation
         Sign of eq. (30)'s compensation terms: ``"derived"`` (correct) or ``"printed"`` (the
         paper's misprint, for comparison only).
     allow_backward
         Drive backwards when the goal is behind the robot (nav2's graceful controller's
-        ``allow_backward``; :func:`agents.ibvs_core.robot_command`). The paper's law drives
-        forwards only (the default).
+        ``allow_backward``; :func:`agents.analytic.ibvs_maths.robot_command`). The paper's law
+        drives forwards only (the default).
 
     Examples
     --------
@@ -190,7 +190,7 @@ class IBVSPolicy:
         return (actions if batched else actions[0]), state
 
     def _predict_batch(self, obs: dict[str, np.ndarray]) -> np.ndarray:
-        """Act for a batch in one vectorised pass (:mod:`agents.ibvs_batch`)."""
+        """Act for a batch in one vectorised pass (:mod:`agents.analytic.ibvs_maths_batch`)."""
         v, gamma, _ = ibvs_twist_batch(
             obs["points"], obs["goal_points"], obs["goal_depths"], obs["visible"],
             self.lam, self.compensation, frame_change=self.variant == "paper",

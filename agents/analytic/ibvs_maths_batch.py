@@ -1,15 +1,15 @@
 """The paper's IBVS (eq. 27-38) for a batch of robots at once, as pure numpy.
 
-:class:`~agents.ibvs.IBVSPolicy` computes one robot at a time (a goal model per goal image,
-cached). Stepping thousands of robots, as a residual policy trained on the native vector env
-does, needs the same maths over a leading batch axis. Here each row keeps its own landmark
-mask (the landmarks visible now and in the goal image): hidden landmarks get zero weight, so
-the masked least-squares problems of one row do not see them. Closed-form ``2 x 2`` solves
+:class:`~agents.analytic.ibvs_policy.IBVSPolicy` computes one robot at a time (a goal model per
+goal image, cached). Stepping thousands of robots, as a residual policy trained on the native
+vector env does, needs the same maths over a leading batch axis. Here each row keeps its own
+landmark mask (the landmarks visible now and in the goal image): hidden landmarks get zero weight,
+so the masked least-squares problems of one row do not see them. Closed-form ``2 x 2`` solves
 replace the pseudo-inverses (``L*_c`` has two columns on a plane), which is the same solution
 whenever the matrix has rank 2; rows where it does not (or with fewer than 3 landmarks, or a
 degenerate goal image) get a zero command, as the scalar policy gives them.
 
-The tests check every row against :class:`~agents.ibvs.IBVSPolicy` on random rooms.
+The tests check every row against :class:`~agents.analytic.ibvs_policy.IBVSPolicy` on random rooms.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from typing import Literal
 import numpy as np
 from numpy.typing import NDArray
 
-from agents.smooth_control import curvature, ego_polar
+from agents.analytic.smooth_control import curvature, ego_polar
 from radial_ibvs_gym.features import L_alpha_m, L_cij, c_ij, pair_indices
 from radial_ibvs_gym.geometry import wrap_angle
 
@@ -66,7 +66,7 @@ def ibvs_twist_batch(
     lam
         The gain ``lambda``, 1/s.
     compensation
-        Sign of eq. (30)'s compensation terms (:func:`agents.ibvs_core.ibvs_twist`).
+        Sign of eq. (30)'s compensation terms (:func:`agents.analytic.ibvs_maths.ibvs_twist`).
     frame_change
         Rotate ``v*`` into the current frame by ``gamma`` (eq. 36-37); ``False`` is the
         ``no-frame-change`` variant, ``v = -v*``.
@@ -155,7 +155,7 @@ def park_command_batch(
     rotate_radius: float,
     allow_backward: bool = False,
 ) -> tuple[F64, F64]:
-    """:func:`agents.ibvs_core.park_command` for a batch: robot speeds from eq. (38).
+    """:func:`agents.analytic.ibvs_maths.park_command` for a batch: robot speeds from eq. (38).
 
     Parameters
     ----------
@@ -164,7 +164,7 @@ def park_command_batch(
     gamma
         ``(B,)`` estimated rotations to the goal orientation, radians.
     lam, k1, k2, v_max, omega_max, stop_radius, stop_heading, rotate_radius, allow_backward
-        As in :func:`~agents.ibvs_core.park_command` (1/s, m/s, rad/s, metres, radians).
+        As in :func:`~agents.analytic.ibvs_maths.park_command` (1/s, m/s, rad/s, metres, radians).
 
     Returns
     -------

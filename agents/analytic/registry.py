@@ -1,7 +1,7 @@
 """The analytic policies by name: the IBVS variants and the pose oracle (no learning).
 
 :mod:`agents.registry` adds the random floor and the learned models to these;
-:mod:`agents.residual` takes its base policy from here.
+:mod:`agents.learned.residual` takes its base policy from here.
 """
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
-from agents.ibvs import IBVSPolicy
-from agents.oracle import PoseOracle
+from agents.analytic.ibvs_policy import IBVSPolicy
+from agents.analytic.pose_oracle import PoseOracle
 
 __all__ = ["ANALYTIC_POLICIES", "make_analytic"]
 

@@ -27,11 +27,11 @@ from stable_baselines3.common.logger import configure
 from stable_baselines3.common.vec_env import VecNormalize
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
-from agents.curriculum import StartReachCurriculum
 from agents.io import write_json
+from agents.learned.curriculum import StartReachCurriculum
+from agents.learned.residual import ResidualVecEnv
+from agents.learned.zoo_config import TrainConfig
 from agents.plotting import save_figure
-from agents.residual import ResidualVecEnv
-from agents.zoo import TrainConfig
 
 __all__ = ["ALGOS", "export_model", "save_normalization", "train"]
 
@@ -94,7 +94,7 @@ def _jsonable(value: Any) -> Any:
 
 def _make_venv(env_id: str, n_envs: int, seed: int, env_kwargs: dict[str, Any]) -> Any:
     """Make the native batched ``VecEnv`` where the id has one, else SB3's ``DummyVecEnv``."""
-    from agents.vec_env import make_vec_env
+    from agents.learned.sb3_vec_env import make_vec_env
     from radial_ibvs_gym.registration import VECTOR_ENTRY_POINTS
 
     native = env_id in VECTOR_ENTRY_POINTS and env_kwargs.get("measurement") != "detected"
@@ -120,7 +120,7 @@ def train(
     Parameters
     ----------
     config
-        The validated configuration (:func:`agents.zoo.load_train_config`).
+        The validated configuration (:func:`agents.learned.zoo_config.load_train_config`).
     out_dir
         Output directory (created).
     algo
@@ -302,13 +302,13 @@ def export_model(
     train_dir
         What :func:`train` wrote.
     dest
-        The model directory to write (e.g. ``agents/models/ppo-paper-sim``).
+        The model directory to write (e.g. ``agents/learned/models/ppo-paper-sim``).
     best
         Ship the best model of the held-out evaluations (with its normalisation statistics)
         rather than the last one.
     residual_gate
         For a residual model: the ``gate`` to deploy it with
-        (:class:`agents.residual.ResidualConfig`), when it differs from training's; the
+        (:class:`agents.learned.residual.ResidualConfig`), when it differs from training's; the
         metadata keeps the training value as ``residual_trained``.
     note
         A line for the metadata (``export_note``): how the export was chosen.
@@ -333,7 +333,7 @@ def export_model(
         top = max(metadata["learning_curve"], key=lambda r: r["mean_return"])
         metadata["shipped_at_timesteps"] = top["timesteps"]
     if residual_gate is not None:
-        from agents.residual import ResidualConfig
+        from agents.learned.residual import ResidualConfig
 
         if not metadata.get("residual"):
             raise ValueError(f"{src} is not a residual model: residual_gate does not apply")

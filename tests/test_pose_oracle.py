@@ -77,7 +77,7 @@ def test_backward_mode_reverses_to_a_goal_behind_and_parks_on_a_shorter_path() -
 
 
 def test_backward_mode_changes_nothing_when_the_goal_is_ahead() -> None:
-    from agents.ibvs_core import robot_command
+    from agents.analytic.ibvs_maths import robot_command
 
     rng = np.random.default_rng(0)
     for _ in range(200):

@@ -122,7 +122,7 @@ class LearnedPolicy:
 
 
 def shipped_models() -> list[str]:
-    """Names of the models shipped with the package (``agents/models/<name>/``)."""
+    """Names of the models shipped with the package (``agents/learned/models/<name>/``)."""
     if not MODELS_DIR.is_dir():
         return []
     return sorted(p.name for p in MODELS_DIR.iterdir() if (p / "model.zip").is_file())
@@ -139,7 +139,7 @@ def load(name_or_path: str | Path) -> Any:
 
     Returns
     -------
-    LearnedPolicy or agents.residual.ResidualPolicy
+    LearnedPolicy or agents.learned.residual.ResidualPolicy
         The latter when the metadata has a ``residual`` entry (a correction to an analytic
         policy, which it builds too).
 
@@ -168,7 +168,7 @@ def load(name_or_path: str | Path) -> Any:
         metadata = json.loads(meta_path.read_text())
     except json.JSONDecodeError as error:
         raise ValueError(f"model {str(name_or_path)!r}: {meta_path} is corrupt: {error}") from None
-    from agents.training import ALGOS
+    from agents.learned.training import ALGOS
 
     algo = metadata.get("algo")
     if algo not in ALGOS:
@@ -188,7 +188,7 @@ def load(name_or_path: str | Path) -> Any:
     name = str(name_or_path) if not Path(name_or_path).exists() else directory.name
     learned = LearnedPolicy(model, metadata, normalization, name)
     if metadata.get("residual") is not None:
-        from agents.residual import ResidualConfig, ResidualPolicy
+        from agents.learned.residual import ResidualConfig, ResidualPolicy
 
         residual = ResidualConfig.from_mapping(metadata["residual"], f"{meta_path}: residual")
         return ResidualPolicy(learned, residual)

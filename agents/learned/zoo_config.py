@@ -17,8 +17,8 @@ from typing import Any
 
 import yaml
 
-from agents.curriculum import CurriculumConfig
-from agents.residual import ResidualConfig
+from agents.learned.curriculum import CurriculumConfig
+from agents.learned.residual import ResidualConfig
 
 __all__ = ["TrainConfig", "load_train_config", "parse_kwargs_string"]
 
@@ -53,11 +53,11 @@ class TrainConfig:
         Evaluation every ``eval_freq`` env steps on ``eval_episodes`` held-out episodes seeded
         from ``eval_seed``.
     residual
-        Train a correction to an analytic policy (:class:`agents.residual.ResidualConfig`),
+        Train a correction to an analytic policy (:class:`agents.learned.residual.ResidualConfig`),
         or ``None`` for a policy from scratch.
     curriculum
         A reverse curriculum on the training envs' ``start_reach``
-        (:class:`agents.curriculum.CurriculumConfig`), or ``None``.
+        (:class:`agents.learned.curriculum.CurriculumConfig`), or ``None``.
     source
         The file and section it came from, and the raw section (for the model's metadata).
     """
