@@ -71,7 +71,7 @@ _FACTORIES: dict[str, Callable[..., Policy]] = {
 POLICY_NAMES = tuple(_FACTORIES)
 
 
-def make_policy(name: str, **kwargs: Any) -> Policy:
+def make_policy(name: str, *, trust_pickle: bool = False, **kwargs: Any) -> Policy:
     """Build a policy by its name.
 
     Parameters
@@ -79,7 +79,10 @@ def make_policy(name: str, **kwargs: Any) -> Policy:
     name
         One of :data:`POLICY_NAMES` (``ibvs``, ``ibvs-current``, ``ibvs-mean``,
         ``ibvs-no-frame-change``, ``oracle``, ``random``), a shipped model's name
-        (:func:`agents.learned.shipped_models`, e.g. ``ppo-paper-sim``) or a model directory.
+        (:func:`agents.learned.shipped_models`, e.g. ``ppo-residual``) or a model directory.
+    trust_pickle
+        For a model directory that holds only a stable-baselines3 ``model.zip``: load it
+        through its pickles (:func:`agents.learned.load`). Ignored by the other policies.
     **kwargs
         Passed to the policy (e.g. ``lam=0.5`` for the IBVS variants, ``seed`` for ``random``;
         none for a learned model).
@@ -97,6 +100,6 @@ def make_policy(name: str, **kwargs: Any) -> Policy:
     if name in shipped_models() or Path(name).exists():
         if kwargs:
             raise ValueError(f"a learned model takes no arguments, got {sorted(kwargs)}")
-        return load(name)
+        return load(name, trust_pickle=trust_pickle)
     valid = [*POLICY_NAMES, *shipped_models()]
     raise ValueError(f"unknown policy {name!r}; valid: {valid} or a model directory")

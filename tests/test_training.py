@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import json
+import shutil
 from pathlib import Path
 
 import gymnasium as gym
@@ -40,8 +41,10 @@ def test_shipped_config_is_valid_rl_zoo3_format() -> None:
 
 
 def test_training_writes_a_loadable_model_directory(trained: Path) -> None:
-    for name in ("model.zip", "normalization.npz", "metadata.json", "vecnormalize.pkl"):
+    for name in ("policy.safetensors", "policy.json", "normalization.npz", "metadata.json"):
         assert (trained / name).is_file(), name
+    assert (trained / "model.zip").is_file()  # for SB3 users and --resume
+    assert not (trained / "vecnormalize.pkl").exists()  # no pickled statistics
     metadata = json.loads((trained / "metadata.json").read_text())
     assert metadata["algo"] == "ppo" and metadata["seed"] == 3
     assert metadata["env_kwargs"]["task"] == 1
@@ -65,10 +68,12 @@ def test_learned_policy_matches_sb3_with_vecnormalize(trained: Path) -> None:
     from stable_baselines3.common.env_util import make_vec_env
     from stable_baselines3.common.vec_env import VecNormalize
 
+    from agents.learned.training import _restore_normalization
+
     policy = load(trained)
     venv = make_vec_env("RadialIBVS/Parking-v0", n_envs=1, env_kwargs=policy.env_kwargs)
-    venv = VecNormalize.load(str(trained / "vecnormalize.pkl"), venv)
-    venv.training = False
+    venv = VecNormalize(venv, training=False, norm_reward=False)
+    _restore_normalization(venv, trained / "normalization.npz", default_count=1)
     obs = venv.reset()
     expected, _ = PPO.load(trained / "model.zip").predict(obs, deterministic=True)
     raw = venv.get_original_obs()
@@ -115,13 +120,20 @@ def test_missing_corrupt_and_unknown_models_are_named(trained: Path, tmp_path: P
         make_policy("ppo-nowhere")
     empty = tmp_path / "empty"
     empty.mkdir()
-    with pytest.raises(ValueError, match=r"model\.zip is missing"):
+    with pytest.raises(ValueError, match=r"metadata\.json is missing"):
+        load(empty)
+    (empty / "metadata.json").write_text((trained / "metadata.json").read_text())
+    with pytest.raises(ValueError, match=r"policy\.safetensors and .*policy\.json are missing"):
         load(empty)
     broken = tmp_path / "broken"
     broken.mkdir()
     (broken / "model.zip").write_bytes(b"not a zip")
     (broken / "metadata.json").write_text((trained / "metadata.json").read_text())
     with pytest.raises(ValueError, match="corrupt"):
+        load(broken, trust_pickle=True)
+    shutil.copytree(trained, broken, dirs_exist_ok=True)
+    (broken / "policy.safetensors").write_bytes(b"not tensors")
+    with pytest.raises(ValueError, match="SHA-256"):
         load(broken)
     (broken / "metadata.json").write_text("{not json")
     with pytest.raises(ValueError, match="corrupt"):
@@ -177,7 +189,7 @@ def test_export_keeps_a_small_loadable_model_directory(trained: Path, tmp_path: 
 
     dest = export_model(trained, tmp_path / "ppo-test")
     names = {p.name for p in dest.iterdir()}
-    assert {"model.zip", "metadata.json", "normalization.npz"} <= names
+    assert {"policy.safetensors", "policy.json", "metadata.json", "normalization.npz"} <= names
     assert "vecnormalize.pkl" not in names and "checkpoints" not in names  # no pickles, no bulk
     assert json.loads((dest / "metadata.json").read_text())["shipped"]
     obs, _ = gym.make("RadialIBVS/Parking-v0", **load(dest).env_kwargs).reset(seed=0)

@@ -4,7 +4,18 @@ from __future__ import annotations
 
 from typing import Any
 
-__all__ = ["add_backend_options"]
+__all__ = ["add_backend_options", "add_trust_model_option"]
+
+
+def add_trust_model_option(parser: Any) -> None:
+    """Add ``--trust-model``: the explicit opt-in to load a pickled stable-baselines3 model."""
+    parser.add_argument(
+        "--trust-model",
+        action="store_true",
+        help="allow a model directory that holds only a stable-baselines3 model.zip, loaded "
+        "through its pickles, which can run code: only for models from a source you trust "
+        "(models of this project need no such opt-in)",
+    )
 
 
 def add_backend_options(parser: Any, task: str) -> None:

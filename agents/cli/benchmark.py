@@ -7,7 +7,7 @@ import shutil
 from pathlib import Path
 from typing import Any
 
-from agents.cli._options import add_backend_options
+from agents.cli._options import add_backend_options, add_trust_model_option
 
 __all__ = ["add_parser", "run"]
 
@@ -51,6 +51,7 @@ def add_parser(sub: Any) -> None:
     parser.add_argument("--fresh", action="store_true", help="discard OUT/chunks, run everything")
     parser.add_argument("--json", type=Path, help="also write the per-episode rows here")
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
+    add_trust_model_option(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -82,6 +83,7 @@ def run(args: argparse.Namespace) -> int:
         address=args.address,
         store=chunks,
         notify=print,
+        trust_model=args.trust_model,
     )
     Console().print(rich_table(summary_rows(results)))
     for result in results:

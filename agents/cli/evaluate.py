@@ -6,6 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from agents.cli._options import add_trust_model_option
+
 __all__ = ["add_parser", "run"]
 
 
@@ -17,7 +19,7 @@ def add_parser(sub: Any) -> None:
         description=(
             "Run a policy (ibvs, ibvs-current, ibvs-mean, ibvs-no-frame-change, oracle, "
             "ibvs-backward, oracle-backward, random, "
-            "a shipped model such as ppo-paper-sim, or a model directory) on a scenario for N "
+            "a shipped model such as ppo-residual, or a model directory) on a scenario for N "
             "episodes seeded S, S+1, ...; print the success rate (95%% Wilson interval) and the "
             "errors; --json writes one row per episode."
         ),
@@ -35,6 +37,7 @@ def add_parser(sub: Any) -> None:
         help="gym.make argument (YAML value), e.g. physics=kinematic or depth_scale=1.3",
     )
     parser.add_argument("--json", type=Path, help="write the per-episode rows here")
+    add_trust_model_option(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -49,6 +52,7 @@ def run(args: argparse.Namespace) -> int:
         episodes=args.episodes,
         seed=args.seed,
         env_kwargs=parse_env_kwargs(args.env_kwarg),
+        trust_model=args.trust_model,
     )
     rows = [log.row() for log in logs]
     summary = summarise(rows)

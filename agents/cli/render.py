@@ -6,6 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from agents.cli._options import add_trust_model_option
+
 __all__ = ["add_parser", "run"]
 
 
@@ -26,6 +28,7 @@ def add_parser(sub: Any) -> None:
     parser.add_argument(
         "--env-kwarg", action="append", default=[], metavar="KEY=VALUE", help="gym.make argument"
     )
+    add_trust_model_option(parser)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -42,6 +45,7 @@ def run(args: argparse.Namespace) -> int:
         env_kwargs=parse_env_kwargs(args.env_kwarg),
         fps=args.fps,
         max_steps=args.max_steps,
+        trust_model=args.trust_model,
     )
     outcome = "parked" if info.get("is_success") else "did not park"
     print(

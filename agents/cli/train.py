@@ -28,7 +28,12 @@ def add_parser(sub: Any) -> None:
     parser.add_argument("--seed", type=int, default=0, help="default: %(default)s")
     parser.add_argument("--total-timesteps", type=int, help="default: the config's n_timesteps")
     parser.add_argument("--out", type=Path, default=Path("outputs/train"), help="model directory")
-    parser.add_argument("--resume", type=Path, help="model directory to continue training from")
+    parser.add_argument(
+        "--resume",
+        type=Path,
+        help="model directory, or checkpoints/rl_model_N_steps.zip, to continue training from: "
+        "its weights and optimizer state (tensors only) and normalization.npz; no pickle is read",
+    )
     parser.add_argument(
         "--env-kwarg", action="append", default=[], metavar="KEY=VALUE", help="override"
     )

@@ -16,12 +16,22 @@ from __future__ import annotations
 import multiprocessing
 import os
 import sys
+import threading
+import time
 import warnings
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from typing import Any
 
-__all__ = ["BACKENDS", "RAY_EXTRA", "LocalBackend", "RayBackend", "import_ray", "make_backend"]
+__all__ = [
+    "BACKENDS",
+    "RAY_EXTRA",
+    "LocalBackend",
+    "RayBackend",
+    "import_ray",
+    "make_backend",
+    "start_worker",
+]
 
 BACKENDS = ("local", "ray")
 #: what to install for the Ray backend
@@ -72,8 +82,32 @@ def import_ray(local: bool = True) -> Any:
     return ray
 
 
+#: how often a worker checks that its parent is alive, seconds
+WATCHDOG_INTERVAL_S = 0.5
+
+
+def start_worker(parent: int, initializer: Callable[[], None] | None = None) -> None:
+    """Initialise a worker process that dies with its parent, then run ``initializer``.
+
+    A daemon thread checks every :data:`WATCHDOG_INTERVAL_S` that the process's parent is
+    still ``parent``; once the parent is gone (even killed with SIGKILL, which runs no clean-up
+    of its own), the worker exits at once, instead of living on holding memory.
+    """
+
+    def watch() -> None:
+        while os.getppid() == parent:
+            time.sleep(WATCHDOG_INTERVAL_S)
+        os._exit(1)
+
+    threading.Thread(target=watch, name="parent-watchdog", daemon=True).start()
+    if initializer is not None:
+        initializer()
+
+
 class LocalBackend:
     """Run jobs here (``workers=1``) or in a pool of ``workers`` spawned processes.
+
+    The workers die with the process that started them (:func:`start_worker`).
 
     Parameters
     ----------
@@ -107,7 +141,12 @@ class LocalBackend:
             return
         # spawn, not fork: torch (loaded here to check the models) hangs in forked children
         context = multiprocessing.get_context("spawn")
-        pool = ProcessPoolExecutor(self.workers, mp_context=context, initializer=initializer)
+        pool = ProcessPoolExecutor(
+            self.workers,
+            mp_context=context,
+            initializer=start_worker,
+            initargs=(os.getpid(), initializer),
+        )
         try:
             futures: dict[Future[Any], int] = {pool.submit(fn, x): i for i, x in enumerate(items)}
             pending = set(futures)

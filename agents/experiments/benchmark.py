@@ -49,6 +49,7 @@ def run_benchmark(
     address: str | None = None,
     store: Path | str | None = None,
     notify: Callable[[str], None] | None = None,
+    trust_model: bool = False,
 ) -> list[JobResult]:
     """Run every policy on every suite variant, in chunks of at most :data:`CHUNK` episodes.
 
@@ -75,6 +76,9 @@ def run_benchmark(
         not run again. ``None``: nothing is saved.
     notify
         Called with a line of text about resuming (e.g. ``print``).
+    trust_model
+        Load model directories that hold only a pickled stable-baselines3 ``model.zip``
+        (:func:`agents.learned.load`'s ``trust_pickle``), in every worker.
 
     Returns
     -------
@@ -89,19 +93,19 @@ def run_benchmark(
         runs).
     """
     for name in policies:
-        make_policy(name)  # fail early, with the valid names
+        make_policy(name, trust_pickle=trust_model)  # fail early, with the valid names
     if workers < 1:
         raise ValueError(f"workers must be >= 1, got {workers!r}")
     if episodes is not None and episodes < 1:
         raise ValueError(f"episodes must be >= 1, got {episodes!r}")
     jobs = [
-        Job(policy, variant, min(CHUNK, total - first), first)
+        Job(policy, variant, min(CHUNK, total - first), first, trust_model)
         for variant in suite_variants(list(suites))
         for policy in policies
         for total in [episodes or variant.episodes]
         for first in range(0, total, CHUNK)
     ]
-    chunks = ChunkStore(store) if store is not None else None
+    chunks = ChunkStore(store, notify) if store is not None else None
     results: list[JobResult | None] = [chunks.load(j) if chunks else None for j in jobs]
     todo = [i for i, r in enumerate(results) if r is None]
     if chunks is not None and notify is not None and len(todo) < len(jobs):

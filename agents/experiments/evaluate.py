@@ -47,8 +47,12 @@ def evaluate(
     env_id: str | None = None,
     suite: str | None = None,
     progress: bool = True,
+    trust_model: bool = False,
 ) -> list[EpisodeLog]:
     """Run ``episodes`` episodes seeded ``seed, seed + 1, ...``.
+
+    ``trust_model`` allows a model directory that holds only a pickled stable-baselines3
+    ``model.zip`` (:func:`agents.learned.load`'s ``trust_pickle``).
 
     Raises
     ------
@@ -58,7 +62,7 @@ def evaluate(
     """
     if episodes <= 0:
         raise ValueError(f"episodes must be positive, got {episodes!r}")
-    policy = make_policy(policy_name)
+    policy = make_policy(policy_name, trust_pickle=trust_model)
     overrides = {**(env_kwargs or {}), **({"task": task} if task is not None else {})}
     env = make_env(policy, scenario, overrides, env_id=env_id)
     logs = []

@@ -26,6 +26,8 @@ class Job:
     variant: Variant
     episodes: int
     first: int = 0
+    #: load a model directory that holds only a pickled ``model.zip`` (``--trust-model``)
+    trust_model: bool = False
 
 
 #: episodes per job: long variants are split so that the workers share them
@@ -51,7 +53,7 @@ def init_worker() -> None:
 
 def run_job(job: Job) -> JobResult:
     """Run a job (in a worker process)."""
-    policy = make_policy(job.policy)
+    policy = make_policy(job.policy, trust_pickle=job.trust_model)
     # the suite chooses the task per episode: a learned model's training task is dropped
     overrides = {**job.variant.overrides, "task": None}
     try:

@@ -3,9 +3,18 @@
 Each finished job (one policy, one suite variant, a chunk of seeded episodes) is written at
 once to ``<out>/chunks/<name>.json`` (atomically: a file is complete or absent). A rerun with
 the same ``--out`` loads the chunks already there instead of running them again. A chunk's
-file name holds a digest of everything that defines its rows (policy, and for a learned model
-the bytes of its ``model.zip``; suite variant, its ``gym.make`` overrides, scenario, seeds,
-episodes), so a changed job, or a retrained model, is never mistaken for a done one.
+file name holds a digest of everything that defines its rows, so a changed job, a retrained
+model or an edited scenario is never mistaken for a done one:
+
+- the policy: its name, an analytic policy's settings (gains, radii, robot), and for a
+  learned model the bytes of every file of its directory (weights, ``metadata.json`` with
+  a residual's settings, normalisation statistics);
+- the suite variant: its ``gym.make`` overrides, the seeds and episodes, and the scenario's
+  content as loaded (not its name: an edited YAML file changes the key);
+- the package version.
+
+A loaded chunk is checked too (its row count, seeds, policy, suite and variant); one that
+fails the check runs again, and the store says so.
 """
 
 from __future__ import annotations
@@ -14,13 +23,17 @@ import functools
 import hashlib
 import json
 import re
+from collections.abc import Callable
+from dataclasses import is_dataclass
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
+from agents import POLICY_NAMES, make_policy
 from agents.experiments.jobs import Job, JobResult
 from agents.io import write_json
+from radial_ibvs_gym import __version__
 
 __all__ = ["ChunkStore", "job_key"]
 
@@ -39,6 +52,9 @@ def job_key(job: Job) -> str:
         "first": job.first,
         "episodes": job.episodes,
         "model": _model_digest(job.policy),
+        "policy_settings": _policy_settings(job.policy),
+        "scenario_content": _scenario_content(variant.scenario),
+        "version": __version__,
     }
     text = json.dumps(fields, sort_keys=True, default=repr)
     digest = hashlib.sha256(text.encode()).hexdigest()[:12]
@@ -47,21 +63,46 @@ def job_key(job: Job) -> str:
 
 
 def _model_digest(policy: str) -> str | None:
-    """SHA-256 of a learned model's ``model.zip`` (``None`` for an analytic policy)."""
+    """SHA-256 over every file of a learned model's directory (``None``: not a model)."""
     from agents.learned import MODELS_DIR
 
     for directory in (Path(policy), MODELS_DIR / policy):
-        path = directory / "model.zip" if directory.suffix != ".zip" else directory
-        if path.is_file():
-            stat = path.stat()
-            return _file_digest(str(path.resolve()), stat.st_mtime_ns, stat.st_size)
+        if directory.suffix == ".zip" and directory.is_file():
+            directory = directory.parent
+        if directory.is_dir():
+            total = hashlib.sha256()
+            for path in sorted(p for p in directory.rglob("*") if p.is_file()):
+                stat = path.stat()
+                digest = _file_digest(str(path.resolve()), stat.st_mtime_ns, stat.st_size)
+                total.update(f"{path.relative_to(directory).as_posix()}\0{digest}\0".encode())
+            return total.hexdigest()
     return None
 
 
-@functools.lru_cache(maxsize=64)
+@functools.lru_cache(maxsize=256)
 def _file_digest(path: str, mtime_ns: int, size: int) -> str:
     """Hash the file (SHA-256; cached while its time stamp and size stay the same)."""
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def _policy_settings(policy: str) -> dict[str, str] | None:
+    """Return an analytic policy's settings: its plain attributes (gains, radii, the robot)."""
+    if policy not in POLICY_NAMES:
+        return None
+    made = make_policy(policy)
+    return {
+        key: repr(value)
+        for key, value in sorted(vars(made).items())
+        if not key.startswith("_")
+        and (isinstance(value, str | int | float | bool) or value is None or is_dataclass(value))
+    }
+
+
+def _scenario_content(scenario: str) -> str:
+    """Return the scenario as loaded (every key, defaults and camera included), as text."""
+    from radial_ibvs_gym.scenarios import load_scenario
+
+    return repr(load_scenario(scenario).config)
 
 
 class ChunkStore:
@@ -71,10 +112,13 @@ class ChunkStore:
     ----------
     directory
         Where the chunk files live (created on the first save).
+    notify
+        Called with a line of text when a chunk file fails its check (e.g. ``print``).
     """
 
-    def __init__(self, directory: Path | str) -> None:
+    def __init__(self, directory: Path | str, notify: Callable[[str], None] | None = None) -> None:
         self.directory = Path(directory)
+        self.notify = notify
 
     def path(self, job: Job) -> Path:
         """Return the job's file."""
@@ -88,9 +132,15 @@ class ChunkStore:
         try:
             data = json.loads(path.read_text())
             paths = [(p[0], np.asarray(p[1], dtype=np.float64)) for p in data["paths"]]
-            return JobResult(job, list(data["rows"]), paths, data.get("skipped"))
-        except (OSError, ValueError, KeyError, TypeError, IndexError):
-            return None  # a damaged file: the chunk runs again
+            result = JobResult(job, list(data["rows"]), paths, data.get("skipped"))
+            problem = _check(result)
+        except (OSError, ValueError, KeyError, TypeError, IndexError, AttributeError) as error:
+            problem = f"unreadable: {type(error).__name__}"
+        if problem is None:
+            return result
+        if self.notify is not None:
+            self.notify(f"chunk {path.name} failed its check ({problem}): running it again")
+        return None
 
     def save(self, result: JobResult) -> Path:
         """Write a finished job's result (atomically)."""
@@ -100,3 +150,23 @@ class ChunkStore:
             "skipped": result.skipped,
         }
         return write_json(self.path(result.job), data)
+
+
+def _check(result: JobResult) -> str | None:
+    """Why a loaded chunk's rows are not its job's (``None``: they are)."""
+    job, rows = result.job, result.rows
+    if result.skipped is not None:
+        return None if not rows and isinstance(result.skipped, str) else "skipped, with rows"
+    if len(rows) != job.episodes:
+        return f"{len(rows)} rows for {job.episodes} episodes"
+    seeds = [job.variant.seed_offset + k for k in range(job.first, job.first + job.episodes)]
+    if [row.get("seed") for row in rows] != seeds:
+        return f"seeds are not {seeds[0]}..{seeds[-1]}"
+    for field, expected in (
+        ("policy", job.policy),
+        ("suite", job.variant.suite),
+        ("variant", job.variant.label),
+    ):
+        if any(row.get(field) != expected for row in rows):
+            return f"a row's {field} is not {expected!r}"
+    return None

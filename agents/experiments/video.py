@@ -28,6 +28,7 @@ def render_episode(
     env_kwargs: Mapping[str, Any] | None = None,
     fps: int = 10,
     max_steps: int = 600,
+    trust_model: bool = False,
 ) -> tuple[Path, dict[str, Any]]:
     """Run one episode with ``render_mode="rgb_array"`` and save it as a GIF or an MP4.
 
@@ -43,6 +44,9 @@ def render_episode(
         Frames per second of the video (one frame per control step).
     max_steps
         Step budget.
+    trust_model
+        Allow a model directory that holds only a pickled ``model.zip``
+        (:func:`agents.learned.load`'s ``trust_pickle``).
 
     Returns
     -------
@@ -62,7 +66,7 @@ def render_episode(
         raise ValueError("an .mp4 needs ffmpeg on the PATH; install it or write a .gif")
     if fps <= 0 or max_steps <= 0:
         raise ValueError(f"fps and max_steps must be positive, got {fps!r}, {max_steps!r}")
-    policy = make_policy(policy_name)
+    policy = make_policy(policy_name, trust_pickle=trust_model)
     overrides = {**(env_kwargs or {}), **({"task": task} if task is not None else {})}
     env = make_env(policy, scenario, overrides, render_mode="rgb_array")
     try:

@@ -1,10 +1,13 @@
 """Trained models as policies: load a saved (or shipped) model with its observation statistics.
 
-A model directory holds ``model.zip`` (stable-baselines3), ``normalization.npz`` (the
+A model directory holds ``policy.safetensors`` and ``policy.json`` (the policy's weights and
+its description, :mod:`agents.learned.model_files`), ``normalization.npz`` (the
 ``VecNormalize`` observation statistics, if training normalised observations) and
 ``metadata.json`` (algorithm, env id and ``gym.make`` arguments, seed, command, git revision,
-training figures). :func:`load` returns a :class:`LearnedPolicy` with the same ``predict`` as
-every other policy here, normalising observations exactly as training did.
+training figures); none of them can run code when read. A stable-baselines3 ``model.zip`` may
+lie beside them, for SB3 users and for resuming training; loading never reads it. :func:`load`
+returns a :class:`LearnedPolicy` with the same ``predict`` as every other policy here,
+normalising observations exactly as training did.
 """
 
 from __future__ import annotations
@@ -15,6 +18,14 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
+
+from agents.learned.model_files import (
+    DESCRIPTION,
+    WEIGHTS,
+    algorithms,
+    has_policy_files,
+    load_policy,
+)
 
 __all__ = ["MODELS_DIR", "LearnedPolicy", "load", "shipped_models"]
 
@@ -125,17 +136,35 @@ def shipped_models() -> list[str]:
     """Names of the models shipped with the package (``agents/learned/models/<name>/``)."""
     if not MODELS_DIR.is_dir():
         return []
-    return sorted(p.name for p in MODELS_DIR.iterdir() if (p / "model.zip").is_file())
+    return sorted(p.name for p in MODELS_DIR.iterdir() if has_policy_files(p))
 
 
-def load(name_or_path: str | Path) -> Any:
-    """Load a shipped model by name (e.g. ``"ppo-paper-sim"``) or a model directory.
+#: why a ``model.zip`` alone is refused, and how to opt in
+_PICKLE_WARNING = (
+    "a stable-baselines3 model.zip keeps part of its data as pickled Python objects, which "
+    "run code when loaded, so it is not loaded by default. If you trust where it came from, "
+    "load it with agents.load(path, trust_pickle=True) (on the command line: --trust-model), "
+    "or convert it once with agents.learned.save_model_dir"
+)
+
+
+def load(name_or_path: str | Path, *, trust_pickle: bool = False) -> Any:
+    """Load a shipped model by name (e.g. ``"ppo-residual"``) or a model directory.
+
+    A model directory holds ``policy.safetensors`` and ``policy.json`` (the policy's weights
+    and its description: :mod:`agents.learned.model_files`), ``metadata.json`` and, if
+    training normalised observations, ``normalization.npz``: nothing in them can run code.
+    A stable-baselines3 ``model.zip`` beside them is never read. A directory with only a
+    ``model.zip`` (or the path of a ``.zip``) is refused unless ``trust_pickle`` is set.
 
     Parameters
     ----------
     name_or_path
-        A name from :func:`shipped_models`, or a directory with ``model.zip`` and
-        ``metadata.json`` (what ``radial-ibvs train`` writes), or a ``model.zip`` inside one.
+        A name from :func:`shipped_models`, or a model directory (what ``radial-ibvs train``
+        writes), or a ``model.zip`` inside one.
+    trust_pickle
+        Allow loading a stable-baselines3 ``model.zip`` through its pickles, where the
+        directory has no ``policy.safetensors``: only for files from a source you trust.
 
     Returns
     -------
@@ -146,43 +175,49 @@ def load(name_or_path: str | Path) -> Any:
     Raises
     ------
     ValueError
-        For an unknown name (the message lists the shipped ones), a missing or corrupt file.
+        For an unknown name (the message lists the shipped ones), a missing or corrupt file,
+        or a pickled model without ``trust_pickle``.
     """
     path = Path(name_or_path)
+    label = repr(str(name_or_path))[:200]
     if not path.exists():
         if str(name_or_path) in shipped_models():
             path = MODELS_DIR / str(name_or_path)
         else:
             raise ValueError(
-                f"unknown model {str(name_or_path)!r}: neither a shipped model "
-                f"{shipped_models()} nor an existing path"
+                f"unknown model {label}: neither a shipped model {shipped_models()} nor an "
+                "existing path"
             )
-    directory, zip_path = (
-        (path.parent, path) if path.suffix == ".zip" else (path, path / "model.zip")
-    )
+    zipped = path.suffix == ".zip"
+    directory = path.parent if zipped else path
     meta_path = directory / "metadata.json"
-    for required in (zip_path, meta_path):
-        if not required.is_file():
-            raise ValueError(f"model {str(name_or_path)!r}: {required} is missing")
+    if not meta_path.is_file():
+        raise ValueError(f"model {label}: {meta_path} is missing")
     try:
         metadata = json.loads(meta_path.read_text())
-    except json.JSONDecodeError as error:
-        raise ValueError(f"model {str(name_or_path)!r}: {meta_path} is corrupt: {error}") from None
-    from agents.learned.training import ALGOS
-
-    algo = metadata.get("algo")
-    if algo not in ALGOS:
-        raise ValueError(f"model {str(name_or_path)!r}: unknown algo {algo!r} in {meta_path}")
-    # off-policy models: no replay buffer to predict (a HER buffer would even need the env)
-    inference: dict[str, Any] | None = (
-        {"replay_buffer_class": None, "replay_buffer_kwargs": {}, "buffer_size": 1}
-        if algo != "ppo"
-        else None
-    )
-    try:
-        model = ALGOS[algo].load(zip_path, device="cpu", custom_objects=inference)
-    except (zipfile.BadZipFile, ValueError, KeyError, RuntimeError, EOFError) as error:
-        raise ValueError(f"model {str(name_or_path)!r}: {zip_path} is corrupt: {error}") from None
+        if not isinstance(metadata, dict):
+            raise ValueError("not a JSON object")
+    except (ValueError, UnicodeDecodeError) as error:
+        raise ValueError(f"model {label}: {meta_path} is corrupt: {str(error)[:200]}") from None
+    if not zipped and has_policy_files(directory):
+        try:
+            model, description = load_policy(directory)
+        except ValueError as error:
+            raise ValueError(f"model {label}: {error}") from None
+        if metadata.get("algo", description["algo"]) != description["algo"]:
+            raise ValueError(
+                f"model {label}: {meta_path} says algo {str(metadata.get('algo'))[:40]!r}, "
+                f"{directory / DESCRIPTION} says {description['algo']!r}"
+            )
+    else:
+        zip_path = path if zipped else directory / "model.zip"
+        if not zip_path.is_file():
+            raise ValueError(
+                f"model {label}: {directory / WEIGHTS} and {directory / DESCRIPTION} are missing"
+            )
+        if not trust_pickle:
+            raise ValueError(f"model {label}: refusing to load {zip_path}: {_PICKLE_WARNING}")
+        model = _load_sb3_zip(zip_path, metadata, label)
     norm_path = directory / "normalization.npz"
     normalization = _load_normalization(norm_path) if norm_path.is_file() else None
     name = str(name_or_path) if not Path(name_or_path).exists() else directory.name
@@ -193,6 +228,33 @@ def load(name_or_path: str | Path) -> Any:
         residual = ResidualConfig.from_mapping(metadata["residual"], f"{meta_path}: residual")
         return ResidualPolicy(learned, residual)
     return learned
+
+
+def _load_sb3_zip(zip_path: Path, metadata: dict[str, Any], label: str) -> Any:
+    """Load a stable-baselines3 ``model.zip`` through its pickles (only when trusted)."""
+    import pickle
+
+    algos = algorithms()
+    algo = metadata.get("algo")
+    if algo not in algos:
+        raise ValueError(f"model {label}: unknown algo {str(algo)[:40]!r}; valid: {sorted(algos)}")
+    # off-policy models: no replay buffer to predict (a HER buffer would even need the env)
+    inference: dict[str, Any] | None = (
+        {"replay_buffer_class": None, "replay_buffer_kwargs": {}, "buffer_size": 1}
+        if algo != "ppo"
+        else None
+    )
+    try:
+        return algos[algo].load(zip_path, device="cpu", custom_objects=inference)
+    except (
+        zipfile.BadZipFile,
+        ValueError,
+        KeyError,
+        RuntimeError,
+        EOFError,
+        pickle.UnpicklingError,
+    ) as error:
+        raise ValueError(f"model {label}: {zip_path} is corrupt: {str(error)[:300]}") from None
 
 
 def _load_normalization(path: Path) -> dict[str, Any]:

@@ -3,8 +3,9 @@
 Vectorised envs, observation normalisation (``VecNormalize``), evaluation on held-out seeds
 with best-model checkpointing, periodic checkpoints, CSV (and TensorBoard, when installed) logs,
 a progress bar, resuming from a checkpoint; the result is a model directory that
-:func:`agents.learned.load` reads (``model.zip``, ``best_model.zip``, ``normalization.npz``,
-``metadata.json``, ``learning_curve.png``).
+:func:`agents.learned.load` reads without unpickling anything (``policy.safetensors``,
+``policy.json``, ``normalization.npz``, ``metadata.json``), with ``learning_curve.png``, the
+best model in ``best/``, and SB3's own ``model.zip`` for SB3 users and for resuming.
 """
 
 from __future__ import annotations
@@ -12,10 +13,12 @@ from __future__ import annotations
 import importlib.util
 import json
 import platform
+import re
 import shutil
 import subprocess
 import sys
 import time
+import zipfile
 from pathlib import Path
 from typing import Any
 
@@ -29,6 +32,13 @@ from stable_baselines3.common.vec_env import VecNormalize
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from agents.io import write_json
 from agents.learned.curriculum import StartReachCurriculum
+from agents.learned.model_files import (
+    DESCRIPTION,
+    WEIGHTS,
+    has_policy_files,
+    save_normalization,
+    save_policy,
+)
 from agents.learned.residual import ResidualVecEnv
 from agents.learned.zoo_config import TrainConfig
 from agents.plotting import save_figure
@@ -38,31 +48,112 @@ __all__ = ["ALGOS", "export_model", "save_normalization", "train"]
 ALGOS: dict[str, Any] = {"ppo": PPO, "sac": SAC}
 
 
-def save_normalization(venv: VecNormalize, path: Path) -> None:
-    """Write the observation statistics of a ``VecNormalize`` as plain arrays (no pickle)."""
-    rms = venv.obs_rms
-    arrays: dict[str, np.ndarray] = {
-        "clip_obs": np.array(venv.clip_obs),
-        "epsilon": np.array(venv.epsilon),
-    }
-    items = rms.items() if isinstance(rms, dict) else [("obs", rms)]
-    for key, stats in items:
-        arrays[f"mean/{key}"] = np.asarray(stats.mean, dtype=np.float32)
-        arrays[f"var/{key}"] = np.asarray(stats.var, dtype=np.float32)
-    np.savez(path, **arrays)  # type: ignore[arg-type]
+class _SaveBestFiles(BaseCallback):
+    """With ``EvalCallback``'s ``callback_on_new_best``: the best model's files, no pickles.
 
+    Writes ``policy.safetensors`` and ``policy.json`` (and the observation statistics of that
+    moment) into ``directory``, beside the ``best_model.zip`` that ``EvalCallback`` saves.
+    """
 
-class _SaveNormalizationOnBest(BaseCallback):
-    """With ``EvalCallback``'s ``callback_on_new_best``: keep the statistics of the best model."""
-
-    def __init__(self, venv: VecNormalize | None, path: Path) -> None:
+    def __init__(self, venv: VecNormalize | None, directory: Path, algo: str) -> None:
         super().__init__()
-        self.venv, self.path = venv, path
+        self.venv, self.directory, self.algo = venv, directory, algo
 
     def _on_step(self) -> bool:
+        save_policy(self.model, self.directory, self.algo)
         if self.venv is not None:
-            save_normalization(self.venv, self.path)
+            save_normalization(self.venv, self.directory / "normalization.npz")
         return True
+
+
+class _Checkpoints(CheckpointCallback):
+    """SB3's periodic checkpoints, each with its observation statistics as plain arrays.
+
+    ``checkpoints/rl_model_N_steps.zip`` gets ``rl_model_normalization_N_steps.npz`` beside
+    it (no pickled ``VecNormalize``): what :func:`train` needs to resume from it.
+    """
+
+    def _on_step(self) -> bool:
+        result = super()._on_step()
+        venv = self.model.get_vec_normalize_env()
+        if venv is not None and self.n_calls % self.save_freq == 0:
+            save_normalization(venv, self._checkpoint_path("normalization_", extension="npz"))
+        return result
+
+
+_CHECKPOINT = re.compile(r"^(?P<prefix>.+)_(?P<steps>\d+)_steps\.zip$")
+
+
+def _resume(model: Any, venv: Any, path: Path) -> None:
+    """Continue ``model`` from a model directory or a checkpoint ``.zip``; no pickle is read.
+
+    The weights and the optimizer's state come from the zip's ``policy.pth`` and
+    ``policy.optimizer.pth`` (tensors, read by ``torch.load(weights_only=True)``); its pickled
+    ``data`` entry is never deserialised: the step count is read from it as plain JSON. The
+    observation statistics come from ``normalization.npz`` (or, beside a checkpoint,
+    ``rl_model_normalization_N_steps.npz``), never from a pickled ``VecNormalize``.
+
+    Raises
+    ------
+    ValueError
+        If a file is missing, corrupt, or does not fit the config's model.
+    """
+    import pickle
+
+    zipped = path.suffix == ".zip"
+    zip_path = path if zipped else path / "model.zip"
+    if not zip_path.is_file():
+        raise ValueError(f"cannot resume: {zip_path} not found")
+    try:
+        with zipfile.ZipFile(zip_path) as archive:
+            data = json.loads(archive.read("data"))  # plain JSON: ":serialized:" stays text
+        steps = data["num_timesteps"]
+        if isinstance(steps, bool) or not isinstance(steps, int) or steps < 0:
+            raise ValueError(f"num_timesteps is {str(steps)[:40]}")
+        model.set_parameters(str(zip_path), exact_match=True, device="cpu")
+    except (
+        zipfile.BadZipFile,
+        ValueError,
+        KeyError,
+        TypeError,
+        RuntimeError,
+        EOFError,
+        pickle.UnpicklingError,
+    ) as error:
+        raise ValueError(f"cannot resume from {zip_path}: {str(error)[:300]}") from None
+    model.num_timesteps = steps
+    if not isinstance(venv, VecNormalize):
+        return
+    match = _CHECKPOINT.match(zip_path.name) if zipped else None
+    stats = (
+        zip_path.with_name(f"{match['prefix']}_normalization_{match['steps']}_steps.npz")
+        if match
+        else zip_path.parent / "normalization.npz"
+    )
+    if not stats.is_file():
+        raise ValueError(f"cannot resume: the observation statistics {stats} are missing")
+    _restore_normalization(venv, stats, default_count=max(steps, 1))
+
+
+def _restore_normalization(venv: VecNormalize, path: Path, default_count: float) -> None:
+    """Set a ``VecNormalize``'s statistics from :func:`save_normalization`'s ``.npz``."""
+    rms = venv.obs_rms
+    items = rms.items() if isinstance(rms, dict) else [("obs", rms)]
+    try:
+        with np.load(path) as data:  # allow_pickle=False: plain arrays only
+            for key, stats in items:
+                mean, var = data[f"mean/{key}"], data[f"var/{key}"]
+                if mean.shape != stats.mean.shape or var.shape != stats.var.shape:
+                    raise ValueError(f"{key}: shape {mean.shape}, the env's is {stats.mean.shape}")
+                stats.mean, stats.var = mean.astype(np.float64), var.astype(np.float64)
+                count = f"count/{key}"
+                stats.count = float(data[count]) if count in data.files else default_count
+            if venv.norm_reward and "ret_mean" in data.files:
+                venv.ret_rms.mean = data["ret_mean"].astype(np.float64)
+                venv.ret_rms.var = data["ret_var"].astype(np.float64)
+                venv.ret_rms.count = float(data["ret_count"])
+    except (OSError, KeyError, ValueError, zipfile.BadZipFile) as error:
+        raise ValueError(f"cannot resume: {path} is corrupt: {str(error)[:300]}") from None
 
 
 def _git_revision() -> str:
@@ -166,25 +257,17 @@ def train(
     if config.normalize is not None:
         venv = VecNormalize(venv, **config.normalize)
         eval_env = VecNormalize(eval_env, training=False, norm_reward=False)
+    model = ALGOS[algo](
+        config.policy,
+        venv,
+        seed=seed,
+        policy_kwargs=config.policy_kwargs,
+        device="cpu",
+        verbose=0,
+        **config.algo_kwargs,
+    )
     if resume is not None:
-        resume_path = Path(resume)
-        directory = resume_path.parent if resume_path.suffix == ".zip" else resume_path
-        zip_path = resume_path if resume_path.suffix == ".zip" else resume_path / "model.zip"
-        if not zip_path.is_file():
-            raise ValueError(f"cannot resume: {zip_path} not found")
-        if isinstance(venv, VecNormalize) and (directory / "vecnormalize.pkl").is_file():
-            venv = VecNormalize.load(str(directory / "vecnormalize.pkl"), venv.venv)
-        model = ALGOS[algo].load(zip_path, env=venv, device="cpu")
-    else:
-        model = ALGOS[algo](
-            config.policy,
-            venv,
-            seed=seed,
-            policy_kwargs=config.policy_kwargs,
-            device="cpu",
-            verbose=0,
-            **config.algo_kwargs,
-        )
+        _resume(model, venv, Path(resume))
     formats = ["csv"] + (["tensorboard"] if importlib.util.find_spec("tensorboard") else [])
     model.set_logger(configure(str(out / "logs"), formats))
     best_dir = out / "best"
@@ -196,14 +279,13 @@ def train(
         log_path=str(out / "eval"),
         deterministic=True,
         verbose=0,
-        callback_on_new_best=_SaveNormalizationOnBest(
-            venv if isinstance(venv, VecNormalize) else None, best_dir / "normalization.npz"
+        callback_on_new_best=_SaveBestFiles(
+            venv if isinstance(venv, VecNormalize) else None, best_dir, algo
         ),
     )
-    checkpoints = CheckpointCallback(
+    checkpoints = _Checkpoints(
         save_freq=max(10 * config.eval_freq // config.n_envs, 1),
         save_path=str(out / "checkpoints"),
-        save_vecnormalize=True,
     )
     callbacks: list[BaseCallback] = [evaluation, checkpoints]
     if config.curriculum is not None:
@@ -218,10 +300,10 @@ def train(
     )
     wall = time.perf_counter() - start
     model.logger.close()  # flush and close logs/progress.csv
-    model.save(out / "model.zip")
+    save_policy(model, out, algo)  # what agents.load reads: no pickles
+    model.save(out / "model.zip")  # for SB3 users and --resume (read without its pickles)
     if isinstance(venv, VecNormalize):
         save_normalization(venv, out / "normalization.npz")
-        venv.save(str(out / "vecnormalize.pkl"))  # for resuming (a pickle: not shipped)
     curve = _learning_curve(out / "eval" / "evaluations.npz")
     metadata = {
         "algo": algo,
@@ -316,17 +398,23 @@ def export_model(
     Returns
     -------
     pathlib.Path
-        ``dest``, holding ``model.zip``, ``normalization.npz``, ``metadata.json`` (noting which
-        model it is), ``progress.csv`` and ``learning_curve.png``.
+        ``dest``, holding ``policy.safetensors``, ``policy.json``, ``normalization.npz``,
+        ``metadata.json`` (noting which model it is), ``progress.csv``, ``learning_curve.png``
+        and the stable-baselines3 ``model.zip`` (for SB3 users: :func:`agents.load` never
+        reads it).
     """
     src, out = Path(train_dir), Path(dest)
-    use_best = best and (src / "best" / "best_model.zip").is_file()
-    model = src / "best" / "best_model.zip" if use_best else src / "model.zip"
-    norm = src / "best" / "normalization.npz" if use_best else src / "normalization.npz"
+    use_best = best and has_policy_files(src / "best")
+    folder = src / "best" if use_best else src
+    if not has_policy_files(folder):
+        raise ValueError(f"{folder} has no policy.safetensors and policy.json to export")
     out.mkdir(parents=True, exist_ok=True)
-    shutil.copy(model, out / "model.zip")
-    if norm.is_file():
-        shutil.copy(norm, out / "normalization.npz")
+    for name in (WEIGHTS, DESCRIPTION, "normalization.npz"):
+        if (folder / name).is_file():
+            shutil.copy(folder / name, out / name)
+    zip_path = src / "best" / "best_model.zip" if use_best else src / "model.zip"
+    if zip_path.is_file():  # for SB3 users; agents.load never reads it
+        shutil.copy(zip_path, out / "model.zip")
     metadata = json.loads((src / "metadata.json").read_text())
     metadata["shipped"] = "best model of the held-out evaluations" if use_best else "last model"
     if use_best and metadata.get("learning_curve"):
