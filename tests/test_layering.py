@@ -23,7 +23,7 @@ PACKAGE = ROOT / "radial_ibvs_gym"
 #: lower layers first; a layer may import only itself, the layers before it and the base modules
 LAYERS = ("config", "geometry", "camera", "features", "vision", "physics", "scenarios", "envs")
 #: single modules every layer may use: validation helpers, the paper's numbers, the env ids
-BASE = {"_validation", "paper", "registration"}
+BASE = {"_validation", "limits", "paper", "registration"}
 #: what each layer may import from outside the standard library, numpy and yaml
 EXTRA_ALLOWED = {
     "vision": {"cv2"},

@@ -7,11 +7,11 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
-import yaml
 from tqdm import tqdm  # text bars: no ipywidgets needed in Jupyter
 
 from agents import make_policy
 from agents.runner import EpisodeLog, make_env, run_episode
+from radial_ibvs_gym.config import read_yaml, short
 
 __all__ = ["evaluate", "parse_env_kwargs", "summarise", "wilson_interval"]
 
@@ -29,10 +29,7 @@ def parse_env_kwargs(pairs: Sequence[str]) -> dict[str, Any]:
         key, sep, value = pair.partition("=")
         if not sep or not key:
             raise ValueError(f"--env-kwarg expects KEY=VALUE, got {pair!r}")
-        try:
-            out[key] = yaml.safe_load(value)
-        except yaml.YAMLError:
-            raise ValueError(f"--env-kwarg {key}: cannot read {value!r}") from None
+        out[key] = read_yaml(value, f"--env-kwarg {short(key)}")
     return out
 
 

@@ -15,10 +15,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import yaml
-
 from agents.learned.curriculum import CurriculumConfig
 from agents.learned.residual import ResidualConfig
+from radial_ibvs_gym.config import read_yaml
 
 __all__ = ["TrainConfig", "load_train_config", "parse_kwargs_string"]
 
@@ -193,10 +192,7 @@ def load_train_config(path: Path | str, env_id: str | None = None) -> TrainConfi
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"config file {str(path)!r} not found")
-    try:
-        data = yaml.safe_load(path.read_text())
-    except yaml.YAMLError as error:
-        raise ValueError(f"{path}: not valid YAML: {error}") from None
+    data = read_yaml(path)  # bounded: no aliases, limited size and depth
     if not isinstance(data, Mapping):
         raise ValueError(f"{path}: expected a mapping of env ids to hyper-parameters")
     meta = dict(data.get("radial_ibvs_gym") or {})

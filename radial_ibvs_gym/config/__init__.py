@@ -11,6 +11,16 @@ from radial_ibvs_gym.config.loader import (
     configs_dir,
     from_mapping,
     load_yaml,
+    read_yaml,
+    short,
 )
 
-__all__ = ["ConfigError", "config_path", "configs_dir", "from_mapping", "load_yaml"]
+__all__ = [
+    "ConfigError",
+    "config_path",
+    "configs_dir",
+    "from_mapping",
+    "load_yaml",
+    "read_yaml",
+    "short",
+]

@@ -3,19 +3,136 @@
 from __future__ import annotations
 
 import dataclasses
+import functools
+import reprlib
 import types
 import typing
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, TypeVar
 
-__all__ = ["ConfigError", "config_path", "configs_dir", "from_mapping", "load_yaml"]
+from radial_ibvs_gym.limits import MAX_CONFIG_BYTES, MAX_CONFIG_DEPTH
+
+__all__ = [
+    "ConfigError",
+    "config_path",
+    "configs_dir",
+    "from_mapping",
+    "load_yaml",
+    "read_yaml",
+    "short",
+]
 
 T = TypeVar("T")
 
 
 class ConfigError(ValueError):
     """A configuration that does not match its schema (unknown key, missing key, bad type)."""
+
+
+#: the longest a value or message is printed in an error
+MAX_VALUE_CHARS = 120
+MAX_MESSAGE_CHARS = 600
+
+
+def short(value: Any, limit: int = MAX_VALUE_CHARS) -> str:
+    """Return ``repr(value)``, shortened for an error message (long lists and strings cut)."""
+    printer = reprlib.Repr()
+    printer.maxlist = printer.maxtuple = printer.maxdict = printer.maxset = 6
+    printer.maxstring = printer.maxother = limit
+    printer.maxlevel = 4
+    text = printer.repr(value)
+    return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def _clip(message: str) -> str:
+    return (
+        message if len(message) <= MAX_MESSAGE_CHARS else message[: MAX_MESSAGE_CHARS - 3] + "..."
+    )
+
+
+def read_yaml(source: str | Path, where: str | None = None) -> Any:
+    """Parse YAML safely and within bounds: a file path, or YAML text with ``where`` set.
+
+    Only plain YAML: PyYAML's safe loader (no Python objects), and no anchors or aliases
+    (``&name``, ``*name``: a few hundred bytes of them expand to gigabytes); at most
+    :data:`~radial_ibvs_gym.limits.MAX_CONFIG_BYTES` bytes and
+    :data:`~radial_ibvs_gym.limits.MAX_CONFIG_DEPTH` levels of nesting.
+
+    Parameters
+    ----------
+    source
+        A path to a YAML file or, when ``where`` is given, the YAML text itself.
+    where
+        What the text is, for the messages (e.g. ``"--env-kwarg physics"``).
+
+    Returns
+    -------
+    Any
+        The parsed value (``None`` for an empty document).
+
+    Raises
+    ------
+    ConfigError
+        For a file that is missing, too large, too deep, not YAML, or uses anchors, aliases or
+        tags of Python objects; the message names the file (or ``where``) and the line.
+    """
+    import yaml
+
+    if where is None:
+        path = Path(source)
+        where = str(path)
+        try:
+            size = path.stat().st_size
+            if size > MAX_CONFIG_BYTES:
+                raise ConfigError(
+                    f"{where}: {size} bytes exceed MAX_CONFIG_BYTES = {MAX_CONFIG_BYTES}"
+                )
+            text = path.read_text()
+        except (OSError, UnicodeDecodeError) as error:
+            raise ConfigError(f"{where}: cannot read it: {_clip(str(error))}") from None
+    else:
+        text = str(source)
+        if len(text) > MAX_CONFIG_BYTES:
+            raise ConfigError(f"{where}: {len(text)} characters exceed MAX_CONFIG_BYTES")
+    loader = None
+    try:
+        loader = _strict_loader_class()(text)
+        return loader.get_single_data()
+    except ConfigError as error:
+        raise ConfigError(f"{where}: {error}") from None
+    except yaml.YAMLError as error:
+        raise ConfigError(f"{where}: not valid YAML: {_clip(str(error))}") from None
+    finally:
+        if loader is not None:
+            loader.dispose()
+
+
+@functools.cache
+def _strict_loader_class() -> type:
+    import yaml
+
+    class StrictLoader(yaml.SafeLoader):
+        """PyYAML's safe loader without anchors and aliases, nesting bounded."""
+
+        depth = 0
+
+        def compose_node(self, parent: Any, index: Any) -> Any:
+            event = self.peek_event()
+            line = event.start_mark.line + 1
+            if isinstance(event, yaml.AliasEvent) or getattr(event, "anchor", None) is not None:
+                raise ConfigError(f"line {line}: YAML anchors and aliases (&, *) are not allowed")
+            self.depth += 1
+            try:
+                if self.depth > MAX_CONFIG_DEPTH:
+                    raise ConfigError(
+                        f"line {line}: nested deeper than MAX_CONFIG_DEPTH = {MAX_CONFIG_DEPTH}"
+                    )
+                return super().compose_node(parent, index)
+            finally:
+                self.depth -= 1
+
+    return StrictLoader
 
 
 def _convert(tp: Any, value: Any, where: str) -> Any:
@@ -33,50 +150,52 @@ def _convert(tp: Any, value: Any, where: str) -> Any:
                 return _convert(option, value, where)
             except (ConfigError, TypeError, ValueError) as exc:
                 errors.append(str(exc))
-        raise ConfigError(f"{where}: {value!r} matches none of {tp}: {'; '.join(errors)}")
+        raise ConfigError(f"{where}: {short(value)} matches none of {tp}: {'; '.join(errors)}")
     if origin is typing.Literal:
         if value not in args:
-            raise ConfigError(f"{where}: {value!r} is not one of {list(args)}")
+            raise ConfigError(f"{where}: {short(value)} is not one of {list(args)}")
         return value
     if dataclasses.is_dataclass(tp) and isinstance(tp, type):
         if isinstance(value, tp):
             return value
         if not isinstance(value, Mapping):
-            raise ConfigError(f"{where}: expected a mapping for {tp.__name__}, got {value!r}")
+            raise ConfigError(f"{where}: expected a mapping for {tp.__name__}, got {short(value)}")
         return from_mapping(tp, value, where=where)
     if origin is tuple:
         if not isinstance(value, (list, tuple)):
-            raise ConfigError(f"{where}: expected a list, got {value!r}")
+            raise ConfigError(f"{where}: expected a list, got {short(value)}")
         if len(args) == 2 and args[1] is Ellipsis:
             return tuple(_convert(args[0], v, f"{where}[{i}]") for i, v in enumerate(value))
         if len(args) != len(value):
-            raise ConfigError(f"{where}: expected {len(args)} items, got {len(value)}: {value!r}")
+            raise ConfigError(
+                f"{where}: expected {len(args)} items, got {len(value)}: {short(value)}"
+            )
         return tuple(
             _convert(a, v, f"{where}[{i}]")
             for i, (a, v) in enumerate(zip(args, value, strict=True))
         )
     if origin in (dict, Mapping) or tp in (dict, Mapping):
         if not isinstance(value, Mapping):
-            raise ConfigError(f"{where}: expected a mapping, got {value!r}")
+            raise ConfigError(f"{where}: expected a mapping, got {short(value)}")
         return dict(value)
     if tp is float:
         if isinstance(value, bool) or not isinstance(value, (int, float, str)):
-            raise ConfigError(f"{where}: expected a number, got {value!r}")
+            raise ConfigError(f"{where}: expected a number, got {short(value)}")
         try:
             return float(value)  # YAML reads "inf" and "1e-3" as strings in some cases
-        except ValueError as exc:
-            raise ConfigError(f"{where}: expected a number, got {value!r}") from exc
+        except (ValueError, OverflowError) as exc:
+            raise ConfigError(f"{where}: expected a number, got {short(value)}") from exc
     if tp is int:
         if isinstance(value, bool) or not isinstance(value, int):
-            raise ConfigError(f"{where}: expected an integer, got {value!r}")
+            raise ConfigError(f"{where}: expected an integer, got {short(value)}")
         return value
     if tp is bool:
         if not isinstance(value, bool):
-            raise ConfigError(f"{where}: expected true or false, got {value!r}")
+            raise ConfigError(f"{where}: expected true or false, got {short(value)}")
         return value
     if tp is str:
         if not isinstance(value, str):
-            raise ConfigError(f"{where}: expected a string, got {value!r}")
+            raise ConfigError(f"{where}: expected a string, got {short(value)}")
         return value
     return value
 
@@ -112,13 +231,14 @@ def from_mapping(cls: type[T], mapping: Mapping[str, Any], *, where: str = "") -
     if not (dataclasses.is_dataclass(cls) and isinstance(cls, type)):
         raise TypeError(f"{cls!r} is not a dataclass type")
     if not isinstance(mapping, Mapping):
-        raise ConfigError(f"{where or cls.__name__}: expected a mapping, got {mapping!r}")
+        raise ConfigError(f"{where or cls.__name__}: expected a mapping, got {short(mapping)}")
     fields = {f.name: f for f in dataclasses.fields(cls) if f.init}
     prefix = f"{where}." if where else ""
     unknown = sorted(set(mapping) - set(fields))
     if unknown:
         raise ConfigError(
-            f"{where or cls.__name__}: unknown key(s) {unknown}; valid keys: {sorted(fields)}"
+            f"{where or cls.__name__}: unknown key(s) {short(unknown)}; "
+            f"valid keys: {sorted(fields)}"
         )
     hints = typing.get_type_hints(cls)
     kwargs: dict[str, Any] = {}
@@ -131,8 +251,8 @@ def from_mapping(cls: type[T], mapping: Mapping[str, Any], *, where: str = "") -
         return cls(**kwargs)
     except ConfigError:
         raise
-    except (TypeError, ValueError) as exc:
-        raise ConfigError(f"{where or cls.__name__}: {exc}") from exc
+    except (TypeError, ValueError, OverflowError, ArithmeticError) as exc:
+        raise ConfigError(_clip(f"{where or cls.__name__}: {exc}")) from None
 
 
 def configs_dir() -> Path:
@@ -162,7 +282,7 @@ def config_path(kind: str, name: str) -> Path:
     path = folder / f"{name}.yaml"
     if not path.is_file():
         available = sorted(p.stem for p in folder.glob("*.yaml")) if folder.is_dir() else []
-        raise ConfigError(f"unknown {kind} config {name!r}; available: {available}")
+        raise ConfigError(f"unknown {kind} config {short(name)}; available: {available}")
     return path
 
 
@@ -183,22 +303,19 @@ def load_yaml(cls: type[T], source: str | Path | Mapping[str, Any], **overrides:
     cls
         The validated instance.
     """
-    import yaml
-
     if isinstance(source, Mapping):
         data: Any = dict(source)
         where = cls.__name__
     else:
         path = Path(source)
-        with path.open() as fh:
-            data = yaml.safe_load(fh)
+        data = read_yaml(path)
         where = str(path)
         if data is None:
             data = {}
         if not isinstance(data, Mapping):
-            raise ConfigError(f"{where}: the top level must be a mapping, got {data!r}")
+            raise ConfigError(f"{where}: the top level must be a mapping, got {short(data)}")
     data = {**data, **overrides}
     try:
         return from_mapping(cls, data)
     except ConfigError as exc:
-        raise ConfigError(f"{where}: {exc}") from exc
+        raise ConfigError(_clip(f"{where}: {exc}")) from None

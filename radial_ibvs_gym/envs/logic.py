@@ -19,6 +19,7 @@ from numpy.typing import NDArray
 from radial_ibvs_gym.camera import CatadioptricCamera, normalise_pixels
 from radial_ibvs_gym.features import c_ij, virtual_point_weights
 from radial_ibvs_gym.geometry import wrap_angle
+from radial_ibvs_gym.limits import MAX_LANDMARKS
 
 __all__ = [
     "REWARD_TERMS",
@@ -360,6 +361,10 @@ class Slots:
     def __init__(self, n: int, m: int) -> None:
         if not (2 <= n <= m):
             raise ValueError(f"max_landmarks must be >= the scene's {n} landmarks, got {m!r}")
+        if m > MAX_LANDMARKS:
+            raise ValueError(
+                f"max_landmarks must be at most MAX_LANDMARKS = {MAX_LANDMARKS}, got {m}"
+            )
         self.n, self.m = int(n), int(m)
         i, j = np.triu_indices(n, 1)
         # the position of pair (i, j) among the M slots' pairs, in row-major order

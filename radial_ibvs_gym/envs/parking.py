@@ -15,6 +15,7 @@ from radial_ibvs_gym.envs import logic
 from radial_ibvs_gym.features import c_ij, pair_indices
 from radial_ibvs_gym.geometry import world_to_camera, wrap_angle_scalar
 from radial_ibvs_gym.physics import BACKENDS, RobotConfig, World, make_world, wheels_to_twist
+from radial_ibvs_gym.physics.base import footprint_collides, start_pose_error
 from radial_ibvs_gym.scenarios import Episode, Scenario, load_scenario
 from radial_ibvs_gym.vision import ImageQuality
 from radial_ibvs_gym.vision.pipeline import DetectedPoints
@@ -496,6 +497,9 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
                 pose = np.asarray(options[key], dtype=np.float64)
                 if pose.shape != (3,) or not np.isfinite(pose).all():
                     raise ValueError(f"options[{key!r}] must be (x, y, yaw), got {options[key]!r}")
+                # the same check in every backend, before any physics sees the pose
+                if footprint_collides(pose, self.robot, episode.room, episode.obstacles):
+                    raise ValueError(f"options[{key!r}]: {start_pose_error(pose, key)}")
                 episode = (
                     episode._replace(start=pose) if key == "start" else episode._replace(goal=pose)
                 )

@@ -22,6 +22,7 @@ from numpy.typing import NDArray
 from radial_ibvs_gym.envs import logic
 from radial_ibvs_gym.envs.parking import EpisodeSetup, ParkingEnv
 from radial_ibvs_gym.envs.parking_goal import ParkingGoalEnv
+from radial_ibvs_gym.limits import MAX_NUM_ENVS
 from radial_ibvs_gym.physics.fleet import make_fleet
 from radial_ibvs_gym.registration import MAX_EPISODE_STEPS
 
@@ -92,6 +93,10 @@ class ParkingVectorEnv(VectorEnv):
     ) -> None:
         if isinstance(num_envs, bool) or not isinstance(num_envs, int | np.integer) or num_envs < 1:
             raise ValueError(f"num_envs must be an integer >= 1, got {num_envs!r}")
+        if num_envs > MAX_NUM_ENVS:
+            raise ValueError(
+                f"num_envs must be at most MAX_NUM_ENVS = {MAX_NUM_ENVS}, got {num_envs}"
+            )
         if render_mode is not None:
             raise ValueError(
                 "the native vector env does not render; use gym.make_vec(..., "

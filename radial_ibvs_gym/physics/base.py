@@ -11,7 +11,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from radial_ibvs_gym.physics.diffdrive import RobotConfig
 
-__all__ = ["StepResult", "World", "check_obstacles"]
+__all__ = [
+    "StepResult",
+    "World",
+    "check_obstacles",
+    "footprint_collides",
+    "start_pose_error",
+]
 
 
 class StepResult(NamedTuple):
@@ -46,6 +52,52 @@ def check_obstacles(
             raise ValueError(f"obstacles[{i}] must be (x, y, radius > 0), got {obstacle!r}")
         out.append((values[0], values[1], values[2]))
     return tuple(out)
+
+
+def footprint_collides(
+    pose: ArrayLike,
+    robot: RobotConfig,
+    room: tuple[float, float] | ArrayLike,
+    obstacles: ArrayLike = (),
+) -> bool:
+    """Whether the robot's footprint at ``pose`` leaves the room or overlaps an obstacle.
+
+    Parameters
+    ----------
+    pose
+        ``(3,)`` pose ``(x, y, yaw)``, metres and radians.
+    robot
+        The robot (its ``length`` x ``width`` rectangle is the footprint, centred on ``pose``).
+    room
+        ``(width, depth)`` of the room ``[0, width] x [0, depth]``, metres.
+    obstacles
+        ``(K, 3)`` circular obstacles ``(x, y, radius)``, metres.
+    """
+    x, y, th = np.asarray(pose, dtype=np.float64).tolist()
+    hl, hw = 0.5 * robot.length, 0.5 * robot.width
+    c, s = abs(math.cos(th)), abs(math.sin(th))
+    ex, ey = c * hl + s * hw, s * hl + c * hw  # half extents of the rotated footprint
+    w, d = (float(v) for v in np.asarray(room, dtype=np.float64).tolist())
+    if not (x - ex >= 0.0 and y - ey >= 0.0 and x + ex <= w and y + ey <= d):
+        return True
+    cos, sin = math.cos(th), math.sin(th)
+    for ox, oy, radius in np.asarray(obstacles, dtype=np.float64).reshape(-1, 3).tolist():
+        # the obstacle's centre in the robot frame, clamped to the footprint
+        u = cos * (ox - x) + sin * (oy - y)
+        v = -sin * (ox - x) + cos * (oy - y)
+        du, dv = u - min(max(u, -hl), hl), v - min(max(v, -hw), hw)
+        if du * du + dv * dv < radius * radius:
+            return True
+    return False
+
+
+def start_pose_error(pose: ArrayLike, which: str = "start") -> str:
+    """Return the error of a pose whose footprint is not free (the same in every backend)."""
+    values = np.asarray(pose, dtype=np.float64).tolist()
+    return (
+        f"{which} pose {values} puts the robot into a wall of the room or an obstacle, or "
+        "outside the room"
+    )
 
 
 class World(ABC):
@@ -85,6 +137,21 @@ class World(ABC):
         p = np.asarray(pose, dtype=np.float64)
         if p.shape != (3,) or not np.isfinite(p).all():
             raise ValueError(f"pose must be three finite numbers (x, y, yaw), got {pose!r}")
+        return p
+
+    def colliding(self, pose: ArrayLike) -> bool:
+        """Whether the robot's footprint at ``pose`` leaves the room or overlaps an obstacle."""
+        return footprint_collides(pose, self.robot, self.room, self.obstacles)
+
+    def _check_start(self, pose: ArrayLike) -> NDArray[np.float64]:
+        """Return a start pose as floats if it is finite and the footprint there is free.
+
+        The same check in every backend: the footprint must lie inside the room and clear of
+        every obstacle.
+        """
+        p = self._check_pose(pose)
+        if self.colliding(p):
+            raise ValueError(start_pose_error(p))
         return p
 
     def _finish_step(self, velocity: NDArray[np.float64], dt: float, collision: bool) -> StepResult:

@@ -23,7 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from radial_ibvs_gym.geometry import wrap_angle
-from radial_ibvs_gym.physics.base import check_obstacles
+from radial_ibvs_gym.physics.base import check_obstacles, start_pose_error
 from radial_ibvs_gym.physics.diffdrive import RobotConfig
 
 __all__ = ["Fleet", "KinematicFleet", "PymunkFleet", "limit_commands", "make_fleet"]
@@ -152,6 +152,9 @@ class Fleet:
             if len(obstacles) != len(idx):
                 raise ValueError(f"got {len(obstacles)} obstacle lists for {len(idx)} robots")
             self._set_obstacles(idx, [np.asarray(o, dtype=np.float64) for o in obstacles])
+        bad = self.colliding(poses_k, rooms_k, self.room_obstacles[idx])
+        if bad.any():  # the same check, and message, in every backend
+            raise ValueError(start_pose_error(poses_k[int(np.argmax(bad))]))
         self.rooms[idx] = rooms_k
         self.velocity[idx] = 0.0
         self._place(idx, rooms_k, poses_k)
@@ -207,13 +210,6 @@ class KinematicFleet(Fleet):
         return self._poses.copy()
 
     def _place(self, idx: NDArray[np.intp], rooms: Array, poses: Array) -> None:
-        bad = self.colliding(poses, rooms, self.room_obstacles[idx])
-        if bad.any():
-            k = int(np.argmax(bad))
-            raise ValueError(
-                f"start pose {poses[k].tolist()} puts the robot into a wall of the room or an "
-                "obstacle"
-            )
         self._poses[idx] = np.stack([poses[:, 0], poses[:, 1], wrap_angle(poses[:, 2])], axis=-1)
 
     def step(self, command: Array, dt: float) -> tuple[Array, NDArray[np.bool_]]:  # noqa: D102
@@ -379,11 +375,8 @@ class PymunkFleet(Fleet):
                 body.velocity = (0.0, 0.0)
                 body.angular_velocity = 0.0
             self.space.reindex_shapes_for_body(self._bodies[i])
-            if self.space.shape_query(self._shapes[i]):
-                raise ValueError(
-                    f"start pose {poses[k].tolist()} puts the robot into a wall of the room or an "
-                    "obstacle"
-                )
+            if self.space.shape_query(self._shapes[i]):  # the footprint as pymunk sees it
+                raise ValueError(start_pose_error(poses[k]))
 
     def step(self, command: Array, dt: float) -> tuple[Array, NDArray[np.bool_]]:  # noqa: D102
         steps = round(dt / self.physics_dt)

@@ -58,38 +58,14 @@ class KinematicWorld(World):
         obstacles: tuple[tuple[float, float, float], ...] = (),
     ) -> None:
         super().__init__(robot, room, obstacles)
-        self._half = (0.5 * robot.length, 0.5 * robot.width)
         self._pose = np.zeros(3)
 
     @property
     def pose(self) -> NDArray[np.float64]:  # noqa: D102
         return self._pose.copy()
 
-    def colliding(self, pose: ArrayLike) -> bool:
-        """Whether the robot's footprint at ``pose`` leaves the room or overlaps an obstacle."""
-        x, y, th = np.asarray(pose, dtype=np.float64).tolist()
-        c, s = abs(math.cos(th)), abs(math.sin(th))
-        hl, hw = self._half
-        ex, ey = c * hl + s * hw, s * hl + c * hw  # half extents of the rotated footprint
-        w, d = self.room
-        if x - ex < 0.0 or y - ey < 0.0 or x + ex > w or y + ey > d:
-            return True
-        cos, sin = math.cos(th), math.sin(th)
-        for ox, oy, radius in self.obstacles:
-            # the obstacle's centre in the robot frame, clamped to the footprint
-            u = cos * (ox - x) + sin * (oy - y)
-            v = -sin * (ox - x) + cos * (oy - y)
-            du, dv = u - min(max(u, -hl), hl), v - min(max(v, -hw), hw)
-            if du * du + dv * dv < radius * radius:
-                return True
-        return False
-
     def reset(self, pose: ArrayLike) -> None:  # noqa: D102
-        p = self._check_pose(pose)
-        if self.colliding(p):
-            raise ValueError(
-                f"start pose {p.tolist()} puts the robot into a wall of the room or an obstacle"
-            )
+        p = self._check_start(pose)
         self._pose = np.array([p[0], p[1], wrap_angle_scalar(float(p[2]))])
         self._restart()
 

@@ -18,7 +18,7 @@ import pymunk
 from numpy.typing import ArrayLike, NDArray
 
 from radial_ibvs_gym.geometry import wrap_angle_scalar
-from radial_ibvs_gym.physics.base import StepResult, World
+from radial_ibvs_gym.physics.base import StepResult, World, start_pose_error
 from radial_ibvs_gym.physics.diffdrive import RobotConfig, limit_command
 
 try:  # pymunk's C functions (what its Python wrappers call); see PymunkWorld.step
@@ -107,17 +107,15 @@ class PymunkWorld(World):
         return np.array([p.x, p.y, wrap_angle_scalar(_cp.cpBodyGetAngle(body))])
 
     def reset(self, pose: ArrayLike) -> None:  # noqa: D102
-        p = self._check_pose(pose)
+        p = self._check_start(pose)
         for body in (self._body, self._control):
             body.position = (float(p[0]), float(p[1]))
             body.angle = float(p[2])
             body.velocity = (0.0, 0.0)
             body.angular_velocity = 0.0
         self.space.reindex_shapes_for_body(self._body)
-        if self.space.shape_query(self._shape):
-            raise ValueError(
-                f"start pose {p.tolist()} puts the robot into a wall of the room or an obstacle"
-            )
+        if self.space.shape_query(self._shape):  # the footprint as pymunk sees it
+            raise ValueError(start_pose_error(p))
         self._restart()
 
     def step(self, command: ArrayLike, dt: float) -> StepResult:

@@ -14,6 +14,7 @@ from typing import Any, Literal
 import numpy as np
 
 from radial_ibvs_gym.camera import CameraSpec
+from radial_ibvs_gym.limits import MAX_LANDMARKS, MAX_OBSTACLES
 
 __all__ = [
     "PoseRange",
@@ -127,6 +128,8 @@ class RandomObstacles:
             raise ValueError(
                 f"count must be a [low, high] range of integers >= 0, got {self.count!r}"
             )
+        if hi > MAX_OBSTACLES:
+            raise ValueError(f"count must be at most MAX_OBSTACLES = {MAX_OBSTACLES}, got {hi}")
         _check_range(self.radius, "radius", positive=True)
         if not (math.isfinite(self.clearance) and self.clearance >= 0):
             raise ValueError(f"clearance must be finite and >= 0, got {self.clearance!r}")
@@ -150,6 +153,10 @@ class RandomLandmarks:
     def __post_init__(self) -> None:
         if self.count < 3:
             raise ValueError(f"count must be >= 3 landmarks, got {self.count!r}")
+        if self.count > MAX_LANDMARKS:
+            raise ValueError(
+                f"count must be at most MAX_LANDMARKS = {MAX_LANDMARKS}, got {self.count!r}"
+            )
         _check_range(self.height, "height")
 
 
@@ -221,9 +228,19 @@ class ScenarioConfig:
         if not (math.isfinite(w) and math.isfinite(d) and w > 0 and d > 0):
             raise ValueError(f"room must be a positive [width, depth] in metres, got {self.room!r}")
         if not self.tasks:
-            raise ValueError("a scenario needs at least one task (start and goal)")
+            raise ValueError("tasks: a scenario needs at least one task (start and goal)")
         if bool(self.landmarks) == (self.random_landmarks is not None):
             raise ValueError("give exactly one of landmarks (fixed) and random_landmarks")
+        if len(self.landmarks) > MAX_LANDMARKS:
+            raise ValueError(
+                f"landmarks: {len(self.landmarks)} exceed MAX_LANDMARKS = {MAX_LANDMARKS}"
+            )
+        drawn = self.random_obstacles.count[1] if self.random_obstacles is not None else 0
+        if len(self.obstacles) + drawn > MAX_OBSTACLES:
+            raise ValueError(
+                f"obstacles: {len(self.obstacles)} fixed and up to {drawn} drawn exceed "
+                f"MAX_OBSTACLES = {MAX_OBSTACLES}"
+            )
         for i, (_, _, radius) in enumerate(self.obstacles):
             if not (math.isfinite(radius) and radius > 0):
                 raise ValueError(f"obstacles[{i}] radius must be positive, got {radius!r}")
