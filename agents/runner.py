@@ -254,6 +254,11 @@ class EpisodeLog:
             "compute_us_per_step": 1e6 * self.compute_s / steps,
             "control_effort": self.control_effort,
             "smoothness": self.smoothness,
+            **(
+                {"camera_imperfections": self.info["camera_imperfections"]}
+                if "camera_imperfections" in self.info
+                else {}
+            ),
             **{k: v for k, v in self.extra.items() if k != "suite"},
         }
 

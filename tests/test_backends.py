@@ -262,3 +262,32 @@ def test_ctrl_c_in_the_cli_exits_130_and_says_how_to_resume(monkeypatch, capsys)
                  "--out", "unused"])  # fmt: skip
     assert code == 130
     assert "interrupted; the finished chunks are in OUT/chunks" in capsys.readouterr().err
+
+
+def test_ray_imported_first_is_refused_for_a_private_instance() -> None:
+    import subprocess
+
+    if importlib.util.find_spec("ray") is None:
+        pytest.skip("Ray is not installed")
+    code = (
+        "import ray\n"
+        "from agents.experiments.backends import import_ray\n"
+        "try:\n    import_ray()\nexcept ValueError as error:\n    print('refused:', error)\n"
+        "else:\n    print('accepted')\n"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER"}
+    root = Path(__file__).resolve().parents[1]
+
+    def run(extra: dict[str, str]) -> str:
+        return subprocess.run(
+            [sys.executable, "-c", code],
+            capture_output=True,
+            text=True,
+            check=True,
+            cwd=root,
+            env={**env, **extra},
+        ).stdout
+
+    out = run({})
+    assert "refused:" in out and "every network interface" in out, out
+    assert "accepted" in run({"RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER": "0"})  # loopback: fine

@@ -194,6 +194,7 @@ def test_registry_builds_every_contract_name_and_rejects_unknown_ones() -> None:
         "oracle",
         "ibvs-backward",
         "oracle-backward",
+        "ibvs-straight",
         "random",
     }
     for name in POLICY_NAMES:

@@ -234,3 +234,15 @@ def test_spaces_round_trip_through_json() -> None:
         assert space_from_json(json.loads(text)) == space
     with pytest.raises(ValueError, match="unknown space type"):
         space_from_json({"type": "Tuple"})
+
+
+def test_a_pickled_weights_file_is_a_value_error_even_when_trusted(tmp_path: Path) -> None:
+    legacy = tmp_path / "legacy"
+    legacy.mkdir()
+    for name in ("model.zip", "metadata.json", "normalization.npz"):
+        shutil.copy(MODELS_DIR / "ppo-residual" / name, legacy / name)
+    marker = tmp_path / "marker"
+    _poison_zip(legacy / "model.zip", marker, member="policy.pth")
+    with pytest.raises(ValueError, match="corrupt"):
+        load(legacy, trust_pickle=True)  # torch's weights-only reader refuses the pickle
+    assert not marker.exists()

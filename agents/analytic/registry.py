@@ -10,6 +10,7 @@ from collections.abc import Callable
 from typing import Any
 
 from agents.analytic.ibvs_policy import IBVSPolicy
+from agents.analytic.ibvs_straight import StraightIBVSPolicy
 from agents.analytic.pose_oracle import PoseOracle
 
 __all__ = ["ANALYTIC_POLICIES", "make_analytic"]
@@ -22,6 +23,7 @@ ANALYTIC_POLICIES: dict[str, Callable[..., Any]] = {
     "oracle": lambda **kw: PoseOracle(**kw),
     "ibvs-backward": lambda **kw: IBVSPolicy("paper", allow_backward=True, **kw),
     "oracle-backward": lambda **kw: PoseOracle(allow_backward=True, **kw),
+    "ibvs-straight": lambda **kw: StraightIBVSPolicy(**kw),
 }
 
 

@@ -18,7 +18,6 @@ import os
 import sys
 import threading
 import time
-import warnings
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from typing import Any
@@ -50,13 +49,14 @@ def import_ray(local: bool = True) -> Any:
     Notes
     -----
     Ray reads these settings when it is first imported. If this process imported Ray
-    before, its settings stay as they were (a warning says so for a private instance, whose
-    servers may then listen on every interface).
+    before without ``RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER=0``, a private instance would listen
+    on every interface: that is refused, never done silently.
 
     Raises
     ------
     ValueError
-        When Ray is not installed; the message names the extra to install.
+        When Ray is not installed (the message names the extra to install), or was imported
+        first without the loopback setting (for a private instance).
     """
     os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")  # nothing leaves the machine
     if "ray" not in sys.modules:
@@ -70,10 +70,12 @@ def import_ray(local: bool = True) -> Any:
         and sys.modules["ray"] is not None
         and os.environ.get("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER") != "0"
     ):
-        warnings.warn(
-            "Ray was imported before radial_ibvs_gym configured it: the private instance "
-            "keeps Ray's defaults (servers on every interface); import agents first",
-            stacklevel=2,
+        raise ValueError(
+            "Ray was imported before the benchmark could configure it, so a private Ray "
+            "instance would listen on every network interface; refusing. Start the command "
+            "without importing ray first, or set RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER=0 before "
+            "importing ray (its servers then bind 127.0.0.1 only), or join a cluster you "
+            "started yourself with --address"
         )
     try:
         import ray

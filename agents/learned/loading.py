@@ -39,7 +39,9 @@ class LearnedPolicy:
     Parameters
     ----------
     model
-        The SB3 model.
+        The SB3 policy (``stable_baselines3.common.policies.BasePolicy``, a torch module with
+        ``predict``), rebuilt from ``policy.safetensors``; with ``trust_pickle``, the SB3
+        algorithm loaded from ``model.zip``. Both have ``predict`` and ``observation_space``.
     metadata
         The model's ``metadata.json`` (``env_kwargs`` in particular).
     normalization

@@ -25,7 +25,7 @@ from radial_ibvs_gym.camera.mirrors import (
 from radial_ibvs_gym.camera.pinhole import Intrinsics
 from radial_ibvs_gym.camera.presets import MIRROR_A, MIRROR_B, paper_camera, paper_intrinsics
 from radial_ibvs_gym.camera.radial import RadialPoints, normalise_pixels, radial_points
-from radial_ibvs_gym.camera.spec import CameraSpec, load_camera
+from radial_ibvs_gym.camera.spec import CameraSpec, ImperfectionRanges, load_camera
 
 __all__ = [
     "MIRROR_A",
@@ -35,6 +35,7 @@ __all__ = [
     "Cone",
     "Ellipsoid",
     "Hyperboloid",
+    "ImperfectionRanges",
     "Imperfections",
     "Intrinsics",
     "Paraboloid",

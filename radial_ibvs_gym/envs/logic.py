@@ -16,18 +16,20 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from radial_ibvs_gym.camera import CatadioptricCamera, normalise_pixels
+from radial_ibvs_gym.camera import CatadioptricCamera, Imperfections, normalise_pixels
 from radial_ibvs_gym.features import c_ij, virtual_point_weights
 from radial_ibvs_gym.geometry import wrap_angle
 from radial_ibvs_gym.limits import MAX_LANDMARKS
 
 __all__ = [
+    "IMPERFECTION_KEYS",
     "REWARD_TERMS",
     "Slots",
     "camera_image",
     "episode_end",
     "feature_errors",
     "goal_weights",
+    "imperfections_info",
     "pose_errors",
     "potential",
     "radial_image",
@@ -414,3 +416,32 @@ def goal_reward_terms(terms: Mapping[str, Any], image_distance: Any) -> dict[str
     out = {k: v for k, v in terms.items() if k not in ("progress", "heading", "precision", "time")}
     out["image_distance"] = image_distance
     return out
+
+
+#: the keys of ``info["camera_imperfections"]``, in this order
+IMPERFECTION_KEYS = (
+    "principal_point_du",
+    "principal_point_dv",
+    "focal_ratio_error",
+    "pixel_noise_std",
+    "tilt_x",
+    "tilt_y",
+)
+
+
+def imperfections_info(imperfections: Imperfections) -> dict[str, float]:
+    """Return drawn camera imperfections as plain values (``info["camera_imperfections"]``).
+
+    Keys: ``principal_point_du``, ``principal_point_dv`` (pixels), ``focal_ratio_error``,
+    ``pixel_noise_std`` (pixels), ``tilt_x``, ``tilt_y`` (radians).
+    """
+    du, dv = imperfections.principal_point_offset
+    tx, ty = imperfections.tilt
+    return {
+        "principal_point_du": float(du),
+        "principal_point_dv": float(dv),
+        "focal_ratio_error": float(imperfections.focal_ratio_error),
+        "pixel_noise_std": float(imperfections.pixel_noise_std),
+        "tilt_x": float(tx),
+        "tilt_y": float(ty),
+    }

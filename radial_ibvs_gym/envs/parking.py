@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
 
@@ -11,6 +11,7 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
+from radial_ibvs_gym.camera import Imperfections
 from radial_ibvs_gym.envs import logic
 from radial_ibvs_gym.features import c_ij, pair_indices
 from radial_ibvs_gym.geometry import world_to_camera, wrap_angle_scalar
@@ -45,6 +46,11 @@ class EpisodeSetup:
         ``(N, 2)`` the goal image (zeros where hidden) and ``(N,)`` its visibility.
     c_goal
         ``(M,)`` the goal image's ``c*_ij`` (``obs_mode="features"``; else ``None``).
+    cameras
+        The episode's cameras, ``"current"`` and ``"goal"``: the scenario's, or built with
+        the imperfections drawn for this episode.
+    imperfections
+        The imperfections drawn for this episode (``None``: the scenario draws none).
     """
 
     episode: Episode
@@ -54,6 +60,8 @@ class EpisodeSetup:
     goal_points: np.ndarray
     goal_visible: np.ndarray
     c_goal: np.ndarray | None = None
+    cameras: dict[str, Any] = field(default_factory=dict)
+    imperfections: Imperfections | None = None
 
 
 class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
@@ -271,6 +279,12 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.measurement = measurement
         self._detector: DetectedPoints | None = None
         if measurement == "detected":
+            specs = (self.scenario.config.camera, self.scenario.config.goal_camera)
+            if any(s is not None and s.imperfection_ranges is not None for s in specs):
+                raise ValueError(
+                    "measurement='detected' does not take camera imperfection_ranges; give "
+                    "fixed imperfections, or use measurement='ideal'"
+                )
             self._detector = DetectedPoints(
                 self.scenario.camera,
                 self.scenario.goal_camera,
@@ -437,13 +451,11 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         attempts = 10 if self._detector is not None and "goal" not in options else 1
         for attempt in range(attempts):
             episode = self._draw_episode(rng, task, options)
+            cameras, drawn = self._episode_cameras(rng)
             landmarks = episode.landmarks
             heights = landmarks[:, 2] - self.scenario.config.camera_height
             bounds: dict[str, tuple[np.ndarray, np.ndarray] | None] = {}
-            for which, camera in (
-                ("current", self.scenario.camera),
-                ("goal", self.scenario.goal_camera),
-            ):
+            for which, camera in cameras.items():
                 bounds[which] = self._radius_bounds(which, camera, heights)
             setup = EpisodeSetup(
                 episode=episode,
@@ -452,6 +464,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
                 radius_bounds=bounds,
                 goal_points=np.zeros((len(landmarks), 2)),
                 goal_visible=np.zeros(len(landmarks), dtype=bool),
+                cameras=cameras,
+                imperfections=drawn,
             )
             if self._detector is not None:
                 setup.goal_points, setup.goal_visible = self._detector.reset(
@@ -471,6 +485,29 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         if self.obs_mode == "features":
             setup.c_goal = c_ij(logic.unit_or_dummy(setup.goal_points, setup.goal_visible))
         return setup
+
+    def _episode_cameras(
+        self, rng: np.random.Generator
+    ) -> tuple[dict[str, Any], Imperfections | None]:
+        """Return the episode's cameras, imperfections drawn where the scenario gives ranges.
+
+        The goal image is taken by the same real camera (the same calibration errors; its
+        own pixel noise), unless the scenario names a goal camera of its own.
+        """
+        config = self.scenario.config
+        cameras = {"current": self.scenario.camera, "goal": self.scenario.goal_camera}
+        ranges = config.camera.imperfection_ranges
+        drawn = None
+        if ranges is not None:
+            drawn = ranges.draw(rng, config.camera.imperfections)
+            cameras["current"] = config.camera.build(drawn)
+            if config.goal_camera is None:
+                cameras["goal"] = cameras["current"]
+        goal_spec = config.goal_camera
+        if goal_spec is not None and goal_spec.imperfection_ranges is not None:
+            goal_drawn = goal_spec.imperfection_ranges.draw(rng, goal_spec.imperfections)
+            cameras["goal"] = goal_spec.build(goal_drawn)
+        return cameras, drawn
 
     def _radius_bounds(
         self, which: str, camera: Any, heights: np.ndarray
@@ -579,7 +616,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         bounds = setup.radius_bounds[which]
         if bounds is not None:
             return logic.radial_image(setup.landmarks_c, bounds[0], bounds[1], pose)
-        camera = self.scenario.camera if which == "current" else self.scenario.goal_camera
+        camera = setup.cameras[which]
         h = self.scenario.config.camera_height
         p_cam = world_to_camera(setup.episode.landmarks, pose, h, validate=False)
         return logic.camera_image(camera, p_cam, rng)
@@ -646,4 +683,9 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             "task": self._setup.episode.task,
             "goal_depths": self._setup.goal_depths.copy(),
             **({"detection": self._detector.info()} if self._detector is not None else {}),
+            **(
+                {"camera_imperfections": logic.imperfections_info(self._setup.imperfections)}
+                if self._setup.imperfections is not None
+                else {}
+            ),
         }

@@ -20,6 +20,7 @@ from gymnasium.vector.utils import batch_space
 from numpy.typing import NDArray
 
 from radial_ibvs_gym.envs import logic
+from radial_ibvs_gym.envs.logic import IMPERFECTION_KEYS
 from radial_ibvs_gym.envs.parking import EpisodeSetup, ParkingEnv
 from radial_ibvs_gym.envs.parking_goal import ParkingGoalEnv
 from radial_ibvs_gym.limits import MAX_NUM_ENVS
@@ -151,7 +152,11 @@ class ParkingVectorEnv(VectorEnv):
         self._prev = (np.zeros(n), np.zeros(n))
         self._elapsed = np.zeros(n, dtype=np.int64)
         self._autoreset = np.zeros(n, dtype=bool)
-        self._fast = not self.scenario.camera.imperfections.any
+        camera = self.scenario.config.camera
+        self._drawn = camera.imperfection_ranges is not None  # imperfections drawn per episode
+        self._fast = not (camera.imperfections.any or self._drawn)
+        #: the drawn imperfections per env, columns as in logic.imperfections_info
+        self._imperfections = np.zeros((n, len(IMPERFECTION_KEYS)))
         if template.obs_mode == "features":
             m = len(template._pairs[0])
             self._c_goal = np.zeros((n, m))
@@ -234,6 +239,9 @@ class ParkingVectorEnv(VectorEnv):
             self._goal_visible[i] = setup.goal_visible
             self._goal_depths[i] = setup.goal_depths
             self._setups[i] = setup
+            if setup.imperfections is not None:
+                drawn = logic.imperfections_info(setup.imperfections)
+                self._imperfections[i] = [drawn[k] for k in IMPERFECTION_KEYS]
             rooms.append(episode.room)
             starts.append(episode.start)
             obstacles.append(episode.obstacles)
@@ -434,8 +442,16 @@ class ParkingVectorEnv(VectorEnv):
             "n_visible": np.asarray(n_visible, dtype=np.int64),
             "task": self._tasks.copy(),
             "goal_depths": self._goal_depths.copy(),
+            **self._imperfections_info(slice(None)),
         }
         return _masked(values, np.ones(self.num_envs, dtype=bool))
+
+    def _imperfections_info(self, rows: Any) -> dict[str, Any]:
+        """``{"camera_imperfections": {key: (k,) array}}`` when they are drawn, else empty."""
+        if not self._drawn:
+            return {}
+        table = self._imperfections[rows]
+        return {"camera_imperfections": {k: table[:, j] for j, k in enumerate(IMPERFECTION_KEYS)}}
 
     def _reset_values(self, indices: NDArray[np.intp]) -> dict[str, Any]:
         """Return the reset ``info`` values of the envs ``indices`` (rows of each key)."""
@@ -452,23 +468,18 @@ class ParkingVectorEnv(VectorEnv):
             "n_visible": self._visible[indices].sum(axis=1).astype(np.int64),
             "task": self._tasks[indices],
             "goal_depths": self._goal_depths[indices],
+            **self._imperfections_info(indices),
         }
 
     def _reset_info(self, indices: NDArray[np.intp]) -> dict[str, Any]:
         """Return the ``info`` of :meth:`reset`: the reset envs' rows, the others masked."""
-        info: dict[str, Any] = {}
         mask = np.zeros(self.num_envs, dtype=bool)
         mask[indices] = True
-        for key, rows in self._reset_values(indices).items():
-            full = np.zeros((self.num_envs, *rows.shape[1:]), dtype=rows.dtype)
-            full[indices] = rows
-            info[key], info[f"_{key}"] = full, mask.copy()
-        return info
+        return _spread(self._reset_values(indices), indices, mask)
 
     def _merge_reset_info(self, info: dict[str, Any], indices: NDArray[np.intp]) -> None:
         """Replace the entries of the envs just reset by their reset info (as SyncVectorEnv)."""
-        for key, rows in self._reset_values(indices).items():
-            info[key][indices] = rows
+        _put(info, self._reset_values(indices), indices)
         terms = info["reward_terms"]
         for key in [k for k in terms if not k.startswith("_")]:
             terms[key][indices] = 0.0
@@ -521,6 +532,29 @@ class ParkingGoalVectorEnv(ParkingVectorEnv):
             None,
         )
         return logic.goal_reward_terms(terms, distance.astype(np.float64))
+
+
+def _spread(values: dict[str, Any], indices: NDArray[np.intp], mask: NDArray[np.bool_]) -> dict:
+    """Rows of the envs ``indices`` as full arrays (zeros elsewhere) with ``_key`` masks."""
+    out: dict[str, Any] = {}
+    for key, rows in values.items():
+        if isinstance(rows, dict):
+            out[key] = _spread(rows, indices, mask)
+        else:
+            full = np.zeros((len(mask), *rows.shape[1:]), dtype=rows.dtype)
+            full[indices] = rows
+            out[key] = full
+        out[f"_{key}"] = mask.copy()
+    return out
+
+
+def _put(info: dict[str, Any], values: dict[str, Any], indices: NDArray[np.intp]) -> None:
+    """Write the rows of the envs ``indices`` into ``info`` (nested dicts too)."""
+    for key, rows in values.items():
+        if isinstance(rows, dict):
+            _put(info[key], rows, indices)
+        else:
+            info[key][indices] = rows
 
 
 def _masked(values: dict[str, Any], mask: NDArray[np.bool_]) -> dict[str, Any]:
