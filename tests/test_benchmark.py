@@ -28,7 +28,14 @@ def test_every_suite_of_the_issue_exists_with_its_variants() -> None:
         "paper-lab",
         "cross-camera",
         "obstacles",
+        "imperfect",
     }
+    imperfect = SUITES["imperfect"]
+    assert [v.label for v in imperfect] == [
+        "noise 1 px", "pp (2, -1) px, fy +1 %", "all together", "drawn per episode"
+    ]  # fmt: skip
+    assert all(v.scenario == "random" and v.seed_offset == 100_000 for v in imperfect)
+    assert "imperfection_ranges" in imperfect[-1].overrides["camera"]
     measured = {v.overrides.get("measurement", "ideal") for v in SUITES["pixels"]}
     assert measured == {"ideal", "detected"}
     assert [v.label for v in SUITES["noise"]] == ["0.0 px", "0.5 px", "1.0 px", "2.0 px"]

@@ -9,8 +9,10 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from agents.analytic.filtered import FilteredPolicy
 from agents.analytic.ibvs_policy import IBVSPolicy
 from agents.analytic.ibvs_straight import StraightIBVSPolicy
+from agents.analytic.planner import MapPlanner
 from agents.analytic.pose_oracle import PoseOracle
 
 __all__ = ["ANALYTIC_POLICIES", "make_analytic"]
@@ -24,6 +26,12 @@ ANALYTIC_POLICIES: dict[str, Callable[..., Any]] = {
     "ibvs-backward": lambda **kw: IBVSPolicy("paper", allow_backward=True, **kw),
     "oracle-backward": lambda **kw: PoseOracle(allow_backward=True, **kw),
     "ibvs-straight": lambda **kw: StraightIBVSPolicy(**kw),
+    # privileged: the true poses and the map (the limit row of every table)
+    "planner": lambda **kw: MapPlanner(**kw),
+    # measured in the imperfect suite: a temporal filter and an earlier final approach
+    "ibvs-straight-filtered": lambda smoothing=0.85, rotate_radius=0.05, **kw: FilteredPolicy(
+        StraightIBVSPolicy(rotate_radius=rotate_radius, **kw), smoothing
+    ),
 }
 
 

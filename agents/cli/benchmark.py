@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import importlib.util
 import shutil
 from pathlib import Path
 from typing import Any
@@ -25,8 +26,11 @@ def add_parser(sub: Any) -> None:
             "points detected in rendered images, paper-sim and paper-lab; generalisation, on "
             "seeds from 100,000 that no training draws: held-out: 200 random rooms; paper-lab: "
             "the lab zero-shot; cross-camera: mirror B and a camera at 1.2 m; obstacles: 200 "
-            "random rooms with obstacles). Prints a table and writes episodes.csv, "
-            "episodes.json, summary.md and plots into --out."
+            "random rooms with obstacles; imperfect: 100 held-out random rooms per variant "
+            "through a real camera: 1 px noise, principal point (2, -1) px with focal ratio "
+            "+1 %, both, and imperfections drawn per episode). Every table gives the planner's "
+            "rate (a privileged policy with a map: the limit) beside each policy's. Prints a "
+            "table and writes episodes.csv, episodes.json, summary.md and plots into --out."
         ),
     )
     parser.add_argument("--suites", nargs="+", help="default: all")
@@ -59,6 +63,7 @@ def run(args: argparse.Namespace) -> int:
     from rich.console import Console
 
     from agents import POLICY_NAMES
+    from agents.analytic.planner import PLANNING_EXTRA
     from agents.experiments.benchmark import (
         rich_table,
         run_benchmark,
@@ -70,6 +75,9 @@ def run(args: argparse.Namespace) -> int:
     from agents.learned import shipped_models
 
     policies = args.policies or [*POLICY_NAMES, *shipped_models()]
+    if not args.policies and importlib.util.find_spec("ompl") is None:
+        policies.remove("planner")
+        print(f"without OMPL the planner's limit row is left out: {PLANNING_EXTRA}")
     chunks = Path(args.out) / "chunks"
     if args.fresh and chunks.is_dir():
         shutil.rmtree(chunks)

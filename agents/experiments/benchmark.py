@@ -144,6 +144,10 @@ def _merge(chunks: Sequence[JobResult]) -> list[JobResult]:
     return list(merged.values())  # the jobs' order: first chunks come first, stably sorted
 
 
+#: the policy whose rate is every table's limit: a planner with the true poses and the map
+LIMIT = "planner"
+
+
 def summary_rows(results: Sequence[JobResult]) -> list[dict[str, Any]]:
     """One summary per policy and variant (see :func:`~.evaluate.summarise`), plus effort."""
     out = []
@@ -159,7 +163,21 @@ def summary_rows(results: Sequence[JobResult]) -> list[dict[str, Any]]:
             smoothness=float(np.mean([r["smoothness"] for r in result.rows])),
         )
         out.append(summary)
+    limits = {(s["suite"], s["variant"]): s["success_rate"] for s in out if s["policy"] == LIMIT}
+    for summary in out:  # the physical limit beside every policy: the planner's rate
+        summary["limit"] = limits.get((summary["suite"], summary["variant"]))
     return out
+
+
+def _ends(summary: dict[str, Any]) -> str:
+    """How the failed episodes ended, e.g. ``collision 17, time-out 3``."""
+    ends = {k: v for k, v in (summary.get("ends") or {}).items() if k != "success" and v}
+    return ", ".join(f"{k} {v}" for k, v in ends.items()) or "-"
+
+
+def _limit(summary: dict[str, Any]) -> str:
+    value = summary.get("limit")
+    return "-" if value is None else f"{value:.0%}"
 
 
 def _fmt(value: float, scale: float = 1.0, digits: int = 2) -> str:
@@ -169,11 +187,12 @@ def _fmt(value: float, scale: float = 1.0, digits: int = 2) -> str:
 def markdown_table(summaries: Sequence[dict[str, Any]]) -> str:
     """Format the summaries as a Markdown table."""
     lines = [
-        "| suite | variant | policy | success | 95% CI | 10 cm / 5 deg | 30 cm / 15 deg "
+        "| suite | variant | policy | success | 95% CI | limit | failures | 10 cm / 5 deg "
+        "| 30 cm / 15 deg "
         "| pos. err. median / p95 [cm] "
         "| head. err. median / p95 [deg] | time [s] | path [m] | effort | smooth. "
         "| coll. | us/step |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for s in summaries:
         lo, hi = s["success_ci95"]
@@ -183,7 +202,7 @@ def markdown_table(summaries: Sequence[dict[str, Any]]) -> str:
         ]
         lines.append(
             f"| {s['suite']} | {s['variant']} | {s['policy']} | {s['success_rate']:.0%} "
-            f"| {lo:.0%}-{hi:.0%} | {cells[0]} | {cells[1]} "
+            f"| {lo:.0%}-{hi:.0%} | {_limit(s)} | {_ends(s)} | {cells[0]} | {cells[1]} "
             f"| {_fmt(s['position_error_m_median'], 100)} / {_fmt(s['position_error_m_p95'], 100)} "
             f"| {_fmt(s['heading_error_deg_median'])} / {_fmt(s['heading_error_deg_p95'])} "
             f"| {_fmt(s['time_s_median'], digits=1)} | {_fmt(s['path_m_median'])} "
@@ -202,6 +221,8 @@ def rich_table(summaries: Sequence[dict[str, Any]]) -> Any:
         "suite / variant",
         "policy",
         "success (95% CI)",
+        "limit",
+        "failures",
         "pos. err. [cm]",
         "head. err. [deg]",
         "time [s]",
@@ -214,6 +235,8 @@ def rich_table(summaries: Sequence[dict[str, Any]]) -> Any:
             f"{s['suite']} / {s['variant']}",
             s["policy"],
             f"{s['success_rate']:.0%} ({lo:.0%}-{hi:.0%})",
+            _limit(s),
+            _ends(s),
             _fmt(s["position_error_m_median"], 100),
             _fmt(s["heading_error_deg_median"]),
             _fmt(s["time_s_median"], digits=1),

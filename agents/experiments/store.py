@@ -85,17 +85,24 @@ def _file_digest(path: str, mtime_ns: int, size: int) -> str:
     return hashlib.sha256(Path(path).read_bytes()).hexdigest()
 
 
-def _policy_settings(policy: str) -> dict[str, str] | None:
+def _policy_settings(policy: str) -> dict[str, Any] | None:
     """Return an analytic policy's settings: its plain attributes (gains, radii, the robot)."""
     if policy not in POLICY_NAMES:
         return None
-    made = make_policy(policy)
-    return {
-        key: repr(value)
-        for key, value in sorted(vars(made).items())
-        if not key.startswith("_")
-        and (isinstance(value, str | int | float | bool) or value is None or is_dataclass(value))
-    }
+    return _settings(make_policy(policy))
+
+
+def _settings(obj: Any, depth: int = 3) -> dict[str, Any]:
+    """Return the plain attributes of ``obj``, and those of the policies it wraps."""
+    out: dict[str, Any] = {"class": type(obj).__name__}
+    for key, value in sorted(vars(obj).items()):
+        if key.startswith("_"):
+            continue
+        if isinstance(value, str | int | float | bool) or value is None or is_dataclass(value):
+            out[key] = repr(value)
+        elif depth > 0 and hasattr(value, "predict") and hasattr(value, "__dict__"):
+            out[key] = _settings(value, depth - 1)
+    return out
 
 
 def _scenario_content(scenario: str) -> str:

@@ -3,7 +3,11 @@
 Every suite is a list of variants; a variant is a label, a scenario, ``gym.make`` overrides and
 an episode count. Episode ``k`` is seeded ``seed_offset + k`` (0, or :data:`HELD_OUT_SEED` in
 the generalisation suites); in the suites built on ``paper-sim`` it runs task ``k % 4``.
-Everything runs on the kinematic backend, except for the ``physics`` suite.
+Everything runs on the kinematic backend, except for the ``physics`` suite. The ``imperfect``
+suite (100 held-out random rooms per variant) sees them through a real camera: 1 px of pixel
+noise; a principal point 2 px and -1 px off with a focal ratio 1 % off; both; and
+imperfections drawn per episode (principal point up to 3 px, focal ratio up to 2 %, noise
+0.5-1 px).
 """
 
 from __future__ import annotations
@@ -55,6 +59,18 @@ HELD_OUT_SEED = 100_000
 
 def _camera(**imperfections: Any) -> dict[str, Any]:
     return {"camera": {**_MIRROR_A, "imperfections": imperfections}}
+
+
+#: the camera of the random rooms (configs/scenarios/random.yaml)
+_RANDOM_CAMERA = {"mirror": "A", "non_central_offset": 0.01}
+#: a real camera's calibration errors: principal point (2, -1) px, focal ratio +1 %
+_CALIBRATION = {"principal_point_offset": [2.0, -1.0], "focal_ratio_error": 0.01}
+
+
+def _imperfect(label: str, episodes: int = 100, **camera: Any) -> Variant:
+    """Return a variant of the ``imperfect`` suite: held-out random rooms, a real camera."""
+    overrides = {"physics": "kinematic", "camera": {**_RANDOM_CAMERA, **camera}}
+    return Variant("imperfect", label, "random", overrides, episodes, False, HELD_OUT_SEED)
 
 
 def _paper(suite: str, label: str, episodes: int = 8, **overrides: Any) -> Variant:
@@ -129,6 +145,21 @@ SUITES: dict[str, list[Variant]] = {
     "physics": [
         _paper("physics", "kinematic"),
         _paper("physics", "pymunk", physics="pymunk"),
+    ],
+    # held-out random rooms through imperfect cameras: noise, calibration errors, both, and
+    # imperfections drawn per episode
+    "imperfect": [
+        _imperfect("noise 1 px", imperfections={"pixel_noise_std": 1.0}),
+        _imperfect("pp (2, -1) px, fy +1 %", imperfections=_CALIBRATION),
+        _imperfect("all together", imperfections={**_CALIBRATION, "pixel_noise_std": 1.0}),
+        _imperfect(
+            "drawn per episode",
+            imperfection_ranges={
+                "principal_point_offset": 3.0,
+                "focal_ratio_error": 0.02,
+                "pixel_noise_std": [0.5, 1.0],
+            },
+        ),
     ],
     # ideal points vs points measured in rendered images (render, detect, calibrate, match)
     "pixels": [

@@ -158,6 +158,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | ``action_type`` | ``"twist"`` | ``"twist"`` ``(v, omega)`` or ``"wheels"`` (left, right) |
     | ``goal_depths`` | ``False`` | add the goal depths ``d*`` to the observation (IBVS) |
     | ``privileged`` | ``False`` | add the true poses and depths to the observation |
+    | ``privileged_map`` | ``False`` | add the map: ``room`` ``(2,)`` and ``obstacles`` ``(K, 3)`` |
     | ``measurement`` | ``"ideal"`` | ``"ideal"`` projection, or ``"detected"`` (see below) |
     | ``image_size`` / ``beacon_radius`` | ``256`` / ``0.08`` | detected mode: pixels / metres |
     | ``image_noise`` / ``image_blur`` / ``exposure`` | ``0`` / ``0`` / ``1`` | detected mode |
@@ -193,6 +194,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         action_type: Literal["twist", "wheels"] = "twist",
         privileged: bool = False,
         goal_depths: bool = False,
+        privileged_map: bool = False,
         measurement: Literal["ideal", "detected"] = "ideal",
         image_size: int = 256,
         beacon_radius: float = 0.08,
@@ -249,6 +251,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.obs_mode = obs_mode
         self.action_type = action_type
         self.privileged = bool(privileged)
+        self.privileged_map = bool(privileged_map)
         self.goal_depths_in_obs = bool(goal_depths)
         self.control_dt = float(control_dt)
         self.physics_dt = float(physics_dt)
@@ -322,6 +325,9 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             obs_spaces["robot_pose"] = pose_space
             obs_spaces["goal_pose"] = pose_space
             obs_spaces["depths"] = depth_space
+        if self.privileged_map:
+            obs_spaces["room"] = spaces.Box(0.0, 1e3, (2,), np.float64)
+            obs_spaces["obstacles"] = spaces.Box(-1e3, 1e3, (self.map_obstacles, 3), np.float64)
         if self.slots is not None:
             obs_spaces["landmark_mask"] = spaces.Box(0.0, 1.0, (k,), np.float32)
         self.observation_space = spaces.Dict(obs_spaces)  # type: ignore[assignment]
@@ -645,7 +651,31 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             np.bool_(a is not None),
         )
 
+    @property
+    def map_obstacles(self) -> int:
+        """Rows of the ``obstacles`` map observation: the scenario's most obstacles (>= 1)."""
+        config = self.scenario.config
+        drawn = config.random_obstacles.count[1] if config.random_obstacles is not None else 0
+        return max(1, len(config.obstacles) + drawn)
+
+    def map_observation(self, episode: Episode) -> dict[str, np.ndarray]:
+        """Return the privileged map of an episode: ``room`` ``(2,)``, ``obstacles`` ``(K, 3)``.
+
+        ``obstacles`` rows are ``(x, y, radius)`` in metres, zero-padded (radius 0: none).
+        """
+        obstacles = np.zeros((self.map_obstacles, 3))
+        given = np.asarray(episode.obstacles, dtype=np.float64).reshape(-1, 3)
+        obstacles[: len(given)] = given
+        return {"room": np.asarray(episode.room, dtype=np.float64).copy(), "obstacles": obstacles}
+
     def _obs(self) -> dict[str, np.ndarray]:
+        assert self._setup is not None
+        obs = self._image_obs()
+        if self.privileged_map:
+            obs.update(self.map_observation(self._setup.episode))
+        return obs
+
+    def _image_obs(self) -> dict[str, np.ndarray]:
         assert self._setup is not None
         features = None
         if self.obs_mode == "features":

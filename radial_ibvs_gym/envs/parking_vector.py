@@ -406,7 +406,7 @@ class ParkingVectorEnv(VectorEnv):
                 self._has_weights[idx],
             )
             extra = {"c_error": c_err, "alpha_m_error": a_err}
-        return logic.observation(
+        obs = logic.observation(
             points.reshape(len(points), -1),
             self._goal_points[idx].reshape(len(points), -1),
             self._visible[idx],
@@ -417,6 +417,12 @@ class ParkingVectorEnv(VectorEnv):
             landmarks=self._landmarks_c[idx] if t.privileged else None,
             slots=t.slots,
         )
+        if t.privileged_map:
+            setups = [self._setups[i] for i in np.arange(self.num_envs)[idx].tolist()]
+            maps = [t.map_observation(s.episode) for s in setups if s is not None]
+            obs["room"] = np.stack([m["room"] for m in maps])
+            obs["obstacles"] = np.stack([m["obstacles"] for m in maps])
+        return obs
 
     def _refresh(self, obs: dict[str, NDArray[Any]], idx: NDArray[np.intp]) -> None:
         """Overwrite the rows ``idx`` of ``obs`` with those envs' current observations."""

@@ -1,0 +1,311 @@
+"""``planner``: a privileged policy with a map, the physical limit of the parking task.
+
+It sees what no image-based policy may: the true poses and the map (``gym.make(...,
+privileged=True, privileged_map=True)``: ``robot_pose``, ``goal_pose``, ``room``,
+``obstacles``). At the start of an episode it plans a collision-free path of straight
+segments:
+
+- the straight segment from start to goal, where that is free;
+- otherwise a path of OMPL (RRT-Connect in SE(2), then simplified), seeded from the episode
+  (the same episode, the same plan).
+
+A position is free when the robot can turn in place there: its footprint swept over every
+heading (a disc of half its diagonal, plus ``margin``) stays inside the room and clear of
+every obstacle, so the follower may turn at any waypoint. The follower drives the path
+turn-drive-turn: it turns in place towards the next waypoint (forwards or backwards,
+whichever needs less turning), drives straight with its heading held, and at the goal turns
+to the goal heading. Speeds follow the robot's limits with deceleration ramps, so it stops on
+each waypoint within millimetres. The visibility of the landmarks is not a constraint of the
+plan (an episode that loses them ends as ``lost``, and the tables count it).
+
+OMPL is optional: ``pip install 'radial_ibvs_gym[planning]'``.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from radial_ibvs_gym.physics import RobotConfig
+
+__all__ = ["PLANNING_EXTRA", "MapPlanner", "Plan", "plan_path", "segment_free"]
+
+#: what to install for the planner
+PLANNING_EXTRA = "pip install 'radial_ibvs_gym[planning]'"
+F64 = NDArray[np.float64]
+
+
+def _import_ompl() -> tuple[Any, Any, Any]:
+    try:
+        from ompl import base, geometric, util
+    except ImportError:
+        raise ValueError(
+            f"the planner needs OMPL, which is not installed: {PLANNING_EXTRA}"
+        ) from None
+    return base, geometric, util
+
+
+def _free(points: F64, room: F64, obstacles: F64, radius: float) -> bool:
+    """Whether discs of ``radius`` at ``points`` ``(P, 2)`` are inside the room and clear."""
+    x, y = points[:, 0], points[:, 1]
+    if not ((x >= radius).all() and (y >= radius).all()):
+        return False
+    if not ((x <= room[0] - radius).all() and (y <= room[1] - radius).all()):
+        return False
+    for ox, oy, r in obstacles:
+        if r > 0 and (np.hypot(x - ox, y - oy) < r + radius).any():
+            return False
+    return True
+
+
+def segment_free(a: F64, b: F64, room: F64, obstacles: F64, radius: float) -> bool:
+    """Whether the disc of ``radius`` (metres) moves from ``a`` to ``b`` ``(2,)`` without a hit.
+
+    Checked every centimetre along the segment.
+    """
+    n = max(2, math.ceil(float(np.hypot(*(b - a))) / 0.01) + 1)
+    t = np.linspace(0.0, 1.0, n)[:, None]
+    return _free(a + t * (b - a), room, obstacles, radius)
+
+
+def plan_path(
+    start: F64,
+    goal: F64,
+    room: F64,
+    obstacles: F64,
+    radius: float,
+    *,
+    time_limit_s: float = 2.0,
+) -> F64 | None:
+    """Plan a collision-free path of straight segments for a disc of ``radius`` metres.
+
+    Parameters
+    ----------
+    start, goal
+        ``(2,)`` positions, metres.
+    room
+        ``(2,)`` width and depth of the room ``[0, w] x [0, d]``, metres.
+    obstacles
+        ``(K, 3)`` circles ``(x, y, radius)``, metres (radius 0: padding).
+    radius
+        The disc's radius, metres.
+    time_limit_s
+        OMPL's planning budget, seconds (used only when the straight segment is blocked).
+
+    Returns
+    -------
+    numpy.ndarray or None
+        ``(M, 2)`` waypoints from ``start`` to ``goal`` (both included), or ``None`` if none
+        was found (or the start or goal is not free).
+    """
+    start, goal = np.asarray(start, dtype=np.float64), np.asarray(goal, dtype=np.float64)
+    if segment_free(start, goal, room, obstacles, radius):
+        return np.stack([start, goal])
+    ends = np.stack([start, goal])
+    if not _free(ends, room, obstacles, radius):
+        return None
+    ob, og, ou = _import_ompl()
+    ou.setLogLevel(ou.LogLevel.LOG_NONE)
+    # the episode's own seed: the same map, start and goal give the same plan in any process
+    data = np.concatenate([start, goal, room, obstacles.ravel()]).tobytes()
+    ou.RNG.setSeed(int.from_bytes(hashlib.sha256(data).digest()[:4], "little") % 2**31 or 1)
+    space = ob.SE2StateSpace()
+    bounds = ob.RealVectorBounds(2)
+    bounds.setLow(0, 0.0)
+    bounds.setHigh(0, float(room[0]))
+    bounds.setLow(1, 0.0)
+    bounds.setHigh(1, float(room[1]))
+    space.setBounds(bounds)
+    setup = og.SimpleSetup(space)
+    setup.setStateValidityChecker(
+        lambda s: _free(np.array([[s.getX(), s.getY()]]), room, obstacles, radius)
+    )
+    setup.getSpaceInformation().setStateValidityCheckingResolution(0.005)
+    begin, end = space.allocState(), space.allocState()
+    begin.setX(float(start[0]))
+    begin.setY(float(start[1]))
+    begin.setYaw(0.0)
+    end.setX(float(goal[0]))
+    end.setY(float(goal[1]))
+    end.setYaw(0.0)
+    setup.setStartAndGoalStates(begin, end)
+    setup.setPlanner(og.RRTConnect(setup.getSpaceInformation()))
+    if not setup.solve(time_limit_s) or not setup.haveExactSolutionPath():
+        return None
+    setup.simplifySolution()
+    states = setup.getSolutionPath().getStates()
+    path = np.array([[s.getX(), s.getY()] for s in states], dtype=np.float64)
+    path[0], path[-1] = start, goal
+    segments_ok = all(
+        segment_free(path[k], path[k + 1], room, obstacles, radius) for k in range(len(path) - 1)
+    )
+    return path if segments_ok else None
+
+
+@dataclass
+class Plan:
+    """A robot's plan and where it is along it (the planner's per-episode ``state``)."""
+
+    waypoints: F64
+    goal_yaw: float
+    index: int = 1
+    failed: bool = False
+
+
+def _wrap(angle: float) -> float:
+    return (angle + math.pi) % (2.0 * math.pi) - math.pi
+
+
+class MapPlanner:
+    """The ``planner`` policy: plan with the map, then follow the path turn-drive-turn.
+
+    Parameters
+    ----------
+    robot
+        The robot's limits (default: the Pioneer-like robot of the scenarios).
+    margin
+        Clearance kept beyond the footprint's turning disc, metres.
+    gain
+        Proportional gain of the drive and the turns, 1/s (below ``1 / control_dt``).
+    waypoint_tolerance, goal_tolerance
+        A waypoint (the goal) is reached within this distance, metres.
+    heading_tolerance
+        The robot drives only when heading within this angle of its waypoint, radians.
+    time_limit_s
+        OMPL's planning budget per episode, seconds.
+
+    Raises
+    ------
+    ValueError
+        If OMPL is not installed (the message names the extra to install).
+    """
+
+    def __init__(
+        self,
+        robot: RobotConfig | None = None,
+        margin: float = 0.05,
+        gain: float = 2.0,
+        waypoint_tolerance: float = 0.01,
+        goal_tolerance: float = 0.003,
+        heading_tolerance: float = math.radians(2.0),
+        time_limit_s: float = 2.0,
+    ) -> None:
+        _import_ompl()
+        self.robot = robot or RobotConfig()
+        values = {
+            "margin": margin,
+            "gain": gain,
+            "waypoint_tolerance": waypoint_tolerance,
+            "goal_tolerance": goal_tolerance,
+            "heading_tolerance": heading_tolerance,
+            "time_limit_s": time_limit_s,
+        }
+        for name, value in values.items():
+            if not (math.isfinite(value) and value >= 0 and (value > 0 or name == "margin")):
+                raise ValueError(f"{name} must be finite and positive, got {value!r}")
+        self.margin, self.gain = float(margin), float(gain)
+        self.waypoint_tolerance = float(waypoint_tolerance)
+        self.goal_tolerance = float(goal_tolerance)
+        self.heading_tolerance = float(heading_tolerance)
+        self.time_limit_s = float(time_limit_s)
+        self.radius = 0.5 * math.hypot(self.robot.length, self.robot.width) + self.margin
+
+    env_kwargs: dict[str, bool] = {"privileged": True, "privileged_map": True}  # noqa: RUF012
+
+    def __repr__(self) -> str:
+        return f"MapPlanner(margin={self.margin}, gain={self.gain})"
+
+    def make_plan(self, obs: dict[str, np.ndarray]) -> Plan:
+        """Plan an episode from its first observation (one robot)."""
+        pose = np.asarray(obs["robot_pose"], dtype=np.float64)
+        goal = np.asarray(obs["goal_pose"], dtype=np.float64)
+        room = np.asarray(obs["room"], dtype=np.float64)
+        obstacles = np.asarray(obs["obstacles"], dtype=np.float64).reshape(-1, 3)
+        path = plan_path(
+            pose[:2], goal[:2], room, obstacles, self.radius, time_limit_s=self.time_limit_s
+        )
+        if path is None:  # no free path for the turning disc: try the straight drive anyway
+            return Plan(np.stack([pose[:2], goal[:2]]), float(goal[2]), failed=True)
+        return Plan(path, float(goal[2]))
+
+    def predict(
+        self,
+        observation: dict[str, np.ndarray],
+        state: Any = None,
+        episode_start: np.ndarray | None = None,
+        deterministic: bool = True,
+    ) -> tuple[np.ndarray, Any]:
+        """Action(s) for one observation or a batch, as stable-baselines3's ``predict``.
+
+        ``state`` carries each robot's :class:`Plan` from step to step (plan afresh at
+        ``episode_start``, or when ``state`` is ``None``).
+
+        Raises
+        ------
+        KeyError
+            If the observation lacks the poses or the map (the message names the
+            ``gym.make`` arguments to use).
+        """
+        for key in ("robot_pose", "goal_pose", "room", "obstacles"):
+            if key not in observation:
+                raise KeyError(
+                    f"the planner needs observation[{key!r}]: make the env with {self.env_kwargs}"
+                )
+        poses = np.asarray(observation["robot_pose"], dtype=np.float64)
+        batched = poses.ndim == 2
+        n = len(poses) if batched else 1
+        rows = [
+            {k: (np.asarray(v)[i] if batched else np.asarray(v)) for k, v in observation.items()}
+            for i in range(n)
+        ]
+        starts = np.ones(n, dtype=bool)
+        if episode_start is not None and state is not None:
+            starts = np.broadcast_to(np.asarray(episode_start, dtype=bool).reshape(-1), n).copy()
+        plans: list[Plan] = list(state) if state is not None and len(state) == n else [None] * n  # type: ignore[list-item]
+        actions = np.zeros((n, 2), dtype=np.float32)
+        for i, row in enumerate(rows):
+            if starts[i] or plans[i] is None:
+                plans[i] = self.make_plan(row)
+            actions[i] = self._follow(plans[i], np.asarray(row["robot_pose"], dtype=np.float64))
+        return (actions if batched else actions[0]), plans
+
+    def _ramp(self, distance: float, limit: float, accel: float) -> float:
+        """Return the speed that stops on ``distance``: proportional, limited, ramped down."""
+        return min(limit, self.gain * distance, math.sqrt(2.0 * accel * distance))
+
+    def _follow(self, plan: Plan, pose: F64) -> np.ndarray:
+        """Return the turn-drive-turn command towards the next waypoint (action units)."""
+        robot = self.robot
+        v_max, w_max = robot.max_linear_speed, robot.max_angular_speed
+        x, y, yaw = (float(v) for v in pose)
+        while plan.index < len(plan.waypoints):
+            target = plan.waypoints[plan.index]
+            last = plan.index == len(plan.waypoints) - 1
+            dx, dy = float(target[0]) - x, float(target[1]) - y
+            distance = math.hypot(dx, dy)
+            tolerance = self.goal_tolerance if last else self.waypoint_tolerance
+            if distance > tolerance:
+                break
+            plan.index += 1
+        if plan.index >= len(plan.waypoints):  # at the goal: the final turn
+            error = _wrap(plan.goal_yaw - yaw)
+            omega = math.copysign(self._ramp(abs(error), w_max, robot.max_angular_accel), error)
+            return np.array([0.0, omega / w_max])
+        bearing = math.atan2(dy, dx)
+        forward, backward = _wrap(bearing - yaw), _wrap(bearing + math.pi - yaw)
+        direction, error = (1.0, forward) if abs(forward) <= abs(backward) else (-1.0, backward)
+        along = distance * math.cos(error)
+        if distance < 0.03:  # close: the bearing is sensitive to millimetres; hold the heading
+            speed = self._ramp(abs(along), v_max, robot.max_linear_accel)
+            v = direction * math.copysign(speed, along)
+            return np.array([v / v_max, 0.0])
+        omega = math.copysign(self._ramp(abs(error), w_max, robot.max_angular_accel), error)
+        if abs(error) > self.heading_tolerance:  # turn in place first
+            return np.array([0.0, omega / w_max])
+        v = direction * self._ramp(max(along, 0.0), v_max, robot.max_linear_accel)
+        return np.array([v / v_max, omega / w_max])
