@@ -23,7 +23,18 @@ from collections.abc import Sequence
 from types import ModuleType
 from typing import Any
 
-__version__ = "0.1.0"
+
+def _version() -> str:
+    """Return the installed distribution's version (``pyproject.toml`` is its one source)."""
+    from importlib.metadata import PackageNotFoundError, version
+
+    try:
+        return version("radial_ibvs_gym")
+    except PackageNotFoundError:  # a source tree on sys.path, never installed
+        return "0+unknown"
+
+
+__version__ = _version()
 
 __all__ = ["__version__"]
 

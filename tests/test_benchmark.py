@@ -102,7 +102,7 @@ def test_cli_writes_the_table_csv_json_and_plots(tmp_path: Path) -> None:
     with (out / "episodes.csv").open() as handle:
         assert len(list(csv.DictReader(handle))) == len(rows)
     summary = (out / "summary.md").read_text()
-    assert "| paper | 1.3 d* | ibvs | 100% |" in summary
+    assert "| paper | 1.3 d* | kinematic | ibvs | 100% |" in summary
     for name in ("success_by_suite.png", "convergence_map.png", "trajectories.png"):
         assert (out / name).read_bytes()[:4] == b"\x89PNG", name
 

@@ -47,3 +47,17 @@ def test_eq39_points_visible_and_radial_at_start_and_goals(mirror: str, task: in
         p_cam = world_to_camera(paper.EQ39_POINTS, pose, paper.CAMERA_HEIGHT_M)
         assert np.all(camera.visible(p_cam))
         assert invariance_error(camera, p_cam) < 1e-9
+
+
+def test_help_texts_print_percent_signs_once_and_the_version_is_there(capsys) -> None:
+    from agents.cli import COMMANDS
+    from radial_ibvs_gym import __version__
+
+    for command in COMMANDS:
+        with pytest.raises(SystemExit):
+            main([command, "--help"])
+        out = capsys.readouterr().out
+        assert "%%" not in out, command
+    with pytest.raises(SystemExit):
+        main(["--version"])
+    assert capsys.readouterr().out.strip() == f"radial-ibvs {__version__}"

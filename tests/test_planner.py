@@ -93,3 +93,15 @@ def test_without_ompl_the_error_names_the_extra(monkeypatch, capsys) -> None:
     assert main(["evaluate", "--policy", "planner", "--episodes", "1"]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and "radial_ibvs_gym[planning]" in err
+
+
+def test_every_summary_gives_the_planners_rate_as_the_limit() -> None:
+    from agents.experiments.benchmark import markdown_table, run_benchmark, summary_rows
+
+    results = run_benchmark(["random", "planner"], ["paper-lab"], episodes=2, progress=False)
+    summaries = summary_rows(results)
+    assert {s["policy"]: s["limit"] for s in summaries} == {"random": 1.0, "planner": 1.0}
+    random_row = next(s for s in summaries if s["policy"] == "random")
+    table = markdown_table(summaries)
+    assert f"| {random_row['success_rate']:.0%} | " in table and "| 100% |" in table
+    assert "collision" in table or "lost" in table or "time-out" in table  # the failure causes

@@ -45,6 +45,9 @@ def build_parser() -> argparse.ArgumentParser:
             "(Aliakbarpour, Tahri, Araujo, RAS 2014)."
         ),
     )
+    from radial_ibvs_gym import __version__
+
+    parser.add_argument("--version", action="version", version=f"radial-ibvs {__version__}")
     sub = parser.add_subparsers(dest="command", metavar="COMMAND", required=True)
     for module in COMMANDS.values():
         module.add_parser(sub)

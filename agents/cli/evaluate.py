@@ -20,7 +20,7 @@ def add_parser(sub: Any) -> None:
             "Run a policy (ibvs, ibvs-current, ibvs-mean, ibvs-no-frame-change, oracle, "
             "ibvs-backward, oracle-backward, random, "
             "a shipped model such as ppo-residual, or a model directory) on a scenario for N "
-            "episodes seeded S, S+1, ...; print the success rate (95%% Wilson interval) and the "
+            "episodes seeded S, S+1, ...; print the success rate (95% Wilson interval) and the "
             "errors; --json writes one row per episode."
         ),
     )
@@ -57,7 +57,8 @@ def run(args: argparse.Namespace) -> int:
     rows = [log.row() for log in logs]
     summary = summarise(rows)
     lo, hi = summary["success_ci95"]
-    print(f"{args.policy} on {args.scenario}: {summary['episodes']} episodes")
+    physics = ", ".join(sorted({str(row["physics"]) for row in rows}))
+    print(f"{args.policy} on {args.scenario}, {physics} physics: {summary['episodes']} episodes")
     print(
         f"  success {summary['success_rate']:.0%} (95% CI {lo:.0%}-{hi:.0%}), "
         f"collisions {summary['collisions']}"

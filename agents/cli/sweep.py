@@ -20,7 +20,7 @@ def add_parser(sub: Any) -> None:
             "Train the config once per seed (each run as 'radial-ibvs train' writes it, in "
             "OUT/seed-<s>), locally or one Ray task per seed, then write summary.json, "
             "summary.md and learning_curves.png: each seed's success at its last evaluation, their "
-            "IQM with a 95 %% stratified-bootstrap interval, and the curves. A rerun with the "
+            "IQM with a 95 % stratified-bootstrap interval, and the curves. A rerun with the "
             "same --out skips the seeds already trained."
         ),
     )

@@ -159,6 +159,7 @@ def summary_rows(results: Sequence[JobResult]) -> list[dict[str, Any]]:
             policy=result.job.policy,
             suite=result.job.variant.suite,
             variant=result.job.variant.label,
+            physics=", ".join(sorted({str(r["physics"]) for r in result.rows})),
             control_effort=float(np.mean([r["control_effort"] for r in result.rows])),
             smoothness=float(np.mean([r["smoothness"] for r in result.rows])),
         )
@@ -187,12 +188,13 @@ def _fmt(value: float, scale: float = 1.0, digits: int = 2) -> str:
 def markdown_table(summaries: Sequence[dict[str, Any]]) -> str:
     """Format the summaries as a Markdown table."""
     lines = [
-        "| suite | variant | policy | success | 95% CI | limit | failures | 10 cm / 5 deg "
+        "| suite | variant | physics | policy | success | 95% CI | limit | failures "
+        "| 10 cm / 5 deg "
         "| 30 cm / 15 deg "
         "| pos. err. median / p95 [cm] "
         "| head. err. median / p95 [deg] | time [s] | path [m] | effort | smooth. "
         "| coll. | us/step |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for s in summaries:
         lo, hi = s["success_ci95"]
@@ -201,7 +203,8 @@ def markdown_table(summaries: Sequence[dict[str, Any]]) -> str:
             f"{loose[k]['rate']:.0%}" if k in loose else "-" for k in ("10cm/5deg", "30cm/15deg")
         ]
         lines.append(
-            f"| {s['suite']} | {s['variant']} | {s['policy']} | {s['success_rate']:.0%} "
+            f"| {s['suite']} | {s['variant']} | {s['physics']} | {s['policy']} "
+            f"| {s['success_rate']:.0%} "
             f"| {lo:.0%}-{hi:.0%} | {_limit(s)} | {_ends(s)} | {cells[0]} | {cells[1]} "
             f"| {_fmt(s['position_error_m_median'], 100)} / {_fmt(s['position_error_m_p95'], 100)} "
             f"| {_fmt(s['heading_error_deg_median'])} / {_fmt(s['heading_error_deg_p95'])} "
@@ -232,7 +235,7 @@ def rich_table(summaries: Sequence[dict[str, Any]]) -> Any:
     for s in summaries:
         lo, hi = s["success_ci95"]
         table.add_row(
-            f"{s['suite']} / {s['variant']}",
+            f"{s['suite']} / {s['variant']} ({s['physics']})",
             s["policy"],
             f"{s['success_rate']:.0%} ({lo:.0%}-{hi:.0%})",
             _limit(s),

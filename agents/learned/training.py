@@ -384,7 +384,7 @@ def export_model(
     train_dir
         What :func:`train` wrote.
     dest
-        The model directory to write (e.g. ``agents/learned/models/ppo-paper-sim``).
+        The model directory to write (e.g. ``agents/learned/models/ppo-residual``).
     best
         Ship the best model of the held-out evaluations (with its normalisation statistics)
         rather than the last one.
