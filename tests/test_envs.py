@@ -146,7 +146,7 @@ def test_collision_terminates() -> None:
         ({"control_dt": 0.0}, "control_dt must be finite and positive"),
         ({"min_visible": 2}, r"min_visible must be in 3\.\.8"),
         ({"render_mode": "rgb"}, "render_mode .rgb. is not supported"),
-        ({"depth_scael": 1.3}, r"unknown key\(s\) \['depth_scael'\]"),
+        ({"depth_scael": 1.3}, r"unknown argument\(s\) \['depth_scael'\] \(did you mean"),
         ({"robot": {"wheel_base": 0.0}}, "wheel_base must be a positive number"),
     ],
 )

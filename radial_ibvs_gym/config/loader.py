@@ -17,6 +17,7 @@ __all__ = [
     "ConfigError",
     "config_path",
     "configs_dir",
+    "did_you_mean",
     "from_mapping",
     "load_yaml",
     "read_yaml",
@@ -43,6 +44,14 @@ def short(value: Any, limit: int = MAX_VALUE_CHARS) -> str:
     printer.maxlevel = 4
     text = printer.repr(value)
     return text if len(text) <= limit else text[: limit - 3] + "..."
+
+
+def did_you_mean(name: str, valid: Any) -> str:
+    """Return ``" (did you mean 'x'?)"`` for the closest of ``valid`` to ``name``, or ``""``."""
+    import difflib
+
+    close = difflib.get_close_matches(str(name), [str(v) for v in valid], n=1, cutoff=0.6)
+    return f" (did you mean {close[0]!r}?)" if close else ""
 
 
 def _clip(message: str) -> str:
@@ -282,7 +291,10 @@ def config_path(kind: str, name: str) -> Path:
     path = folder / f"{name}.yaml"
     if not path.is_file():
         available = sorted(p.stem for p in folder.glob("*.yaml")) if folder.is_dir() else []
-        raise ConfigError(f"unknown {kind} config {short(name)}; available: {available}")
+        raise ConfigError(
+            f"unknown {kind} config {short(name)}{did_you_mean(name, available)}; "
+            f"available: {available}"
+        )
     return path
 
 

@@ -22,6 +22,7 @@ from radial_ibvs_gym.geometry import wrap_angle
 from radial_ibvs_gym.limits import MAX_LANDMARKS
 
 __all__ = [
+    "ACTION_RULE",
     "IMPERFECTION_KEYS",
     "REWARD_TERMS",
     "Slots",
@@ -417,6 +418,9 @@ def goal_reward_terms(terms: Mapping[str, Any], image_distance: Any) -> dict[str
     out["image_distance"] = image_distance
     return out
 
+
+#: the one rule for actions, in the scalar and the vector envs alike
+ACTION_RULE = "two finite numbers (values outside [-1, 1] are clipped to it)"
 
 #: the keys of ``info["camera_imperfections"]``, in this order
 IMPERFECTION_KEYS = (

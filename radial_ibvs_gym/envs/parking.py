@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import dataclasses
+import inspect
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -12,12 +14,13 @@ import numpy as np
 from gymnasium import spaces
 
 from radial_ibvs_gym.camera import Imperfections
+from radial_ibvs_gym.config import did_you_mean, short
 from radial_ibvs_gym.envs import logic
 from radial_ibvs_gym.features import c_ij, pair_indices
 from radial_ibvs_gym.geometry import world_to_camera, wrap_angle_scalar
 from radial_ibvs_gym.physics import BACKENDS, RobotConfig, World, make_world, wheels_to_twist
 from radial_ibvs_gym.physics.base import footprint_collides, start_pose_error
-from radial_ibvs_gym.scenarios import Episode, Scenario, load_scenario
+from radial_ibvs_gym.scenarios import Episode, Scenario, ScenarioConfig, load_scenario
 from radial_ibvs_gym.vision import ImageQuality
 from radial_ibvs_gym.vision.pipeline import DetectedPoints
 
@@ -62,6 +65,32 @@ class EpisodeSetup:
     c_goal: np.ndarray | None = None
     cameras: dict[str, Any] = field(default_factory=dict)
     imperfections: Imperfections | None = None
+
+
+def _check_env_arguments(overrides: dict[str, Any], env: type) -> None:
+    """Refuse keywords that are neither env arguments nor scenario keys, with a did-you-mean.
+
+    Checked before the scenario is loaded, so a typo of an env argument (``phisics=``) is
+    reported as such, with the env's own arguments listed beside the scenario's keys.
+    """
+    scenario_keys = sorted(f.name for f in dataclasses.fields(ScenarioConfig))
+    unknown = sorted(set(overrides) - set(scenario_keys))
+    if not unknown:
+        return
+    arguments = sorted(
+        {
+            name
+            for cls in env.__mro__
+            if "__init__" in vars(cls) and cls.__module__.startswith("radial_ibvs_gym")
+            for name, p in inspect.signature(vars(cls)["__init__"]).parameters.items()
+            if name != "self" and p.kind is not inspect.Parameter.VAR_KEYWORD
+        }
+    )
+    hint = did_you_mean(unknown[0], [*arguments, *scenario_keys])
+    raise ValueError(
+        f"unknown argument(s) {short(unknown)}{hint}; the env's arguments: {arguments}; "
+        f"scenario keys (overrides): {scenario_keys}"
+    )
 
 
 class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
@@ -239,6 +268,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
                 f"render_mode {render_mode!r} is not supported; valid: "
                 f"{self.metadata['render_modes']}"
             )
+        _check_env_arguments(scenario_overrides, type(self))
         self.scenario: Scenario = load_scenario(scenario, **scenario_overrides)
         if task is not None and not (0 <= task < self.scenario.n_tasks):
             raise ValueError(f"task must be in 0..{self.scenario.n_tasks - 1}, got {task!r}")
@@ -348,10 +378,10 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             raise RuntimeError("call reset() before step()")
         a = np.asarray(action, dtype=np.float64).reshape(-1)
         if a.shape != (2,):
-            raise ValueError(f"action must be two finite numbers in [-1, 1], got {action!r}")
+            raise ValueError(f"action must be {logic.ACTION_RULE}, got {action!r}")
         a0, a1 = a.tolist()
         if not (math.isfinite(a0) and math.isfinite(a1)):
-            raise ValueError(f"action must be two finite numbers in [-1, 1], got {action!r}")
+            raise ValueError(f"action must be {logic.ACTION_RULE}, got {action!r}")
         s0, s1 = self._scale
         command = (min(max(a0, -1.0), 1.0) * s0, min(max(a1, -1.0), 1.0) * s1)
         if self.action_type == "wheels":

@@ -273,7 +273,7 @@ class ParkingVectorEnv(VectorEnv):
         finite = np.isfinite(a).all(axis=1)
         if not finite.all():
             i = int(np.argmin(finite))
-            raise ValueError(f"env {i}: action must be two finite numbers, got {a[i].tolist()}")
+            raise ValueError(f"env {i}: action must be {logic.ACTION_RULE}, got {a[i].tolist()}")
         if not any(self._rngs):
             raise RuntimeError("call reset() before step()")
         resetting = (

@@ -10,7 +10,14 @@ from typing import Any, NamedTuple
 import numpy as np
 
 from radial_ibvs_gym.camera import CatadioptricCamera
-from radial_ibvs_gym.config import config_path, load_yaml
+from radial_ibvs_gym.config import (
+    ConfigError,
+    config_path,
+    configs_dir,
+    did_you_mean,
+    load_yaml,
+    short,
+)
 from radial_ibvs_gym.geometry import world_to_camera
 from radial_ibvs_gym.scenarios.spec import PoseRange, ScenarioConfig
 
@@ -338,4 +345,10 @@ def load_scenario(name_or_path: str | Path, **overrides: Any) -> Scenario:
     path = Path(name_or_path)
     if path.suffix not in (".yaml", ".yml"):
         path = config_path("scenarios", str(name_or_path))
+    elif not path.is_file():
+        shipped = sorted(p.stem for p in (configs_dir() / "scenarios").glob("*.yaml"))
+        raise ConfigError(
+            f"scenario file {short(str(path))} not found{did_you_mean(path.stem, shipped)}; "
+            f"shipped scenarios (by name): {shipped}"
+        )
     return Scenario(load_yaml(ScenarioConfig, path, **overrides))
