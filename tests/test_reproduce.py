@@ -102,3 +102,11 @@ def test_write_atomic_keeps_the_old_file_when_writing_fails(
         write_atomic(target, "new")
     assert target.read_text() == "old"
     assert [p.name for p in tmp_path.iterdir()] == ["a.txt"]
+
+
+def test_the_default_output_folder_is_named_after_the_scenario(tmp_path, monkeypatch) -> None:
+    monkeypatch.chdir(tmp_path)
+    argv = ["reproduce", "paper-sim", "--physics", "kinematic", "--tasks", "1"]
+    assert main([*argv, "--no-figures", "--no-robustness"]) == 0
+    assert (tmp_path / "outputs" / "reproduce" / "paper-sim" / "table.md").is_file()
+    assert not (tmp_path / "outputs" / "reproduce" / "table.md").exists()

@@ -45,10 +45,14 @@ def test_training_writes_a_loadable_model_directory(trained: Path) -> None:
         assert (trained / name).is_file(), name
     assert (trained / "model.zip").is_file()  # for SB3 users and --resume
     assert not (trained / "vecnormalize.pkl").exists()  # no pickled statistics
+    # shorter than eval_freq, the run still evaluates once and writes the documented files
+    for name in ("best_model.zip", "learning_curve.png", "best/policy.safetensors"):
+        assert (trained / name).is_file(), name
     metadata = json.loads((trained / "metadata.json").read_text())
     assert metadata["algo"] == "ppo" and metadata["seed"] == 3
     assert metadata["env_kwargs"]["task"] == 1
     assert metadata["total_timesteps"] >= 512
+    assert len(metadata["learning_curve"]) >= 1
     assert "radial-ibvs train" in metadata["command"] and metadata["git_revision"]
     policy = load(trained)
     assert isinstance(policy, LearnedPolicy)

@@ -34,7 +34,11 @@ def add_parser(sub: Any) -> None:
         default=["kinematic", "pymunk"],
         help="backends to run (default: both)",
     )
-    parser.add_argument("--out", type=Path, default=Path("outputs/reproduce"), help="output folder")
+    parser.add_argument(
+        "--out",
+        type=Path,
+        help="output folder (default: outputs/reproduce/SCENARIO, one folder per scenario)",
+    )
     parser.add_argument("--json", type=Path, help="also write the per-episode rows here")
     parser.add_argument("--tasks", type=int, nargs="+", help="task indices (default: all)")
     parser.add_argument(
@@ -74,7 +78,8 @@ def run(args: argparse.Namespace) -> int:
     )
     table = summary_table(logs)
     print(table)
-    out: Path = args.out
+    name = Path(str(args.scenario)).stem  # a YAML path: its file name
+    out: Path = args.out if args.out is not None else Path("outputs/reproduce") / name
     written = [
         write_atomic(out / "table.md", table),
         write_trajectories_csv(logs, out / "trajectories.csv"),

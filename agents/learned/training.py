@@ -298,6 +298,9 @@ def train(
         progress_bar=progress,
         reset_num_timesteps=resume is None,
     )
+    if not evaluation.evaluations_timesteps:  # shorter than eval_freq: evaluate once, at the end
+        evaluation.eval_freq = 1
+        evaluation.on_step()  # writes eval/evaluations.npz, best/ and best_model.zip
     wall = time.perf_counter() - start
     model.logger.close()  # flush and close logs/progress.csv
     save_policy(model, out, algo)  # what agents.load reads: no pickles
@@ -355,12 +358,12 @@ def _plot_learning_curve(curve: list[dict[str, float]], path: Path, title: str) 
 
     fig, ax = plt.subplots(figsize=(6, 3.5))
     t = [row["timesteps"] for row in curve]
-    ax.plot(t, [row["mean_return"] for row in curve], color="C0", label="mean return")
+    ax.plot(t, [row["mean_return"] for row in curve], "o-", color="C0", label="mean return")
     ax.set_xlabel("env steps")
     ax.set_ylabel("mean return (held-out seeds)")
     if "success_rate" in curve[0]:
         twin = ax.twinx()
-        twin.plot(t, [row.get("success_rate", np.nan) for row in curve], color="C3")
+        twin.plot(t, [row.get("success_rate", np.nan) for row in curve], "s-", color="C3")
         twin.set_ylabel("success rate", color="C3")
         twin.set_ylim(-0.05, 1.05)
     ax.set_title(title)
