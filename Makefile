@@ -3,7 +3,7 @@ PY ?= python3
 VENV ?= .venv
 BIN := $(VENV)/bin
 
-.PHONY: setup demo test test-fast lint format type bench clean
+.PHONY: setup demo test test-fast lint format type bench clean docs
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -42,3 +42,7 @@ bench:
 
 clean:
 	rm -rf $(VENV) build dist *.egg-info .pytest_cache .mypy_cache .ruff_cache .hypothesis outputs
+
+# The documentation site: Sphinx, furo, MyST; warnings are errors. Built into build/docs.
+docs:
+	$(BIN)/sphinx-build -E -W --keep-going -q -b html docs build/docs

@@ -419,7 +419,7 @@ class CatadioptricCamera:
         Returns
         -------
         angle_error
-            ``(...)`` |incidence angle - reflection angle|, radians.
+            ``(...)`` ``|incidence angle - reflection angle|``, radians.
         coplanarity
             ``(...)`` triple product of the unit incident, reflected and normal vectors (zero
             when they are coplanar).

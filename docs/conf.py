@@ -1,0 +1,43 @@
+"""Sphinx configuration of the radial_ibvs_gym documentation (``make docs``)."""
+
+from __future__ import annotations
+
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+
+from _env_pages import write_env_pages  # noqa: E402
+
+from radial_ibvs_gym import __version__  # noqa: E402
+
+project = "radial_ibvs_gym"
+author = "radial_ibvs_gym developers"
+copyright = "2026, radial_ibvs_gym developers"
+release = version = __version__
+
+extensions = [
+    "myst_parser",
+    "sphinx.ext.autodoc",
+    "sphinx.ext.napoleon",
+    "sphinx.ext.mathjax",
+    "sphinx.ext.viewcode",
+]
+source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
+exclude_patterns = ["_build", "Thumbs.db", ".DS_Store", "img/README.md"]
+myst_enable_extensions = ["colon_fence", "dollarmath", "deflist"]
+myst_heading_anchors = 3
+html_theme = "furo"
+html_title = f"radial_ibvs_gym {release}"
+html_static_path: list[str] = []
+autodoc_member_order = "bysource"
+autodoc_typehints = "description"
+autodoc_default_options = {"members": True, "undoc-members": False, "show-inheritance": False}
+napoleon_numpy_docstring = True
+napoleon_google_docstring = False
+napoleon_use_ivar = True  # dataclass Attributes as fields: no duplicate descriptions
+suppress_warnings = ["myst.header"]
+
+write_env_pages(Path(__file__).resolve().parent / "envs")
