@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import inspect
+import shutil
 from pathlib import Path
 
 #: env id -> (page name, class path); a GIF ``docs/img/<page>.gif`` is shown if present
@@ -46,3 +47,12 @@ def _demote(doc: str) -> str:
     for line in doc.splitlines():
         out.append("#" + line if line.startswith("## ") else line)
     return "\n".join(out)
+
+
+def copy_notebooks(source: Path, folder: Path) -> None:
+    """Copy the teaching notebooks into the docs tree (rendered from their stored outputs)."""
+    folder.mkdir(parents=True, exist_ok=True)
+    for notebook in sorted(source.glob("*.ipynb")):
+        target = folder / notebook.name
+        if not target.is_file() or target.read_bytes() != notebook.read_bytes():
+            shutil.copyfile(notebook, target)

@@ -9,7 +9,7 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
-from _env_pages import write_env_pages  # noqa: E402
+from _env_pages import copy_notebooks, write_env_pages  # noqa: E402
 
 from radial_ibvs_gym import __version__  # noqa: E402
 
@@ -19,13 +19,14 @@ copyright = "2026, radial_ibvs_gym developers"
 release = version = __version__
 
 extensions = [
-    "myst_parser",
+    "myst_nb",  # MyST Markdown pages, and the notebooks rendered from their stored outputs
     "sphinx.ext.autodoc",
     "sphinx.ext.napoleon",
     "sphinx.ext.mathjax",
     "sphinx.ext.viewcode",
 ]
-source_suffix = {".md": "markdown", ".rst": "restructuredtext"}
+source_suffix = {".md": "myst-nb", ".ipynb": "myst-nb", ".rst": "restructuredtext"}
+nb_execution_mode = "off"  # the notebooks show the outputs stored in them (CI executes them)
 exclude_patterns = ["_build", "Thumbs.db", ".DS_Store", "img/README.md"]
 myst_enable_extensions = ["colon_fence", "dollarmath", "deflist"]
 myst_heading_anchors = 3
@@ -41,3 +42,4 @@ napoleon_use_ivar = True  # dataclass Attributes as fields: no duplicate descrip
 suppress_warnings = ["myst.header"]
 
 write_env_pages(Path(__file__).resolve().parent / "envs")
+copy_notebooks(ROOT / "notebooks", Path(__file__).resolve().parent / "notebooks")

@@ -5,6 +5,8 @@ from __future__ import annotations
 import re
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -37,6 +39,23 @@ def test_readme_python_snippets_run() -> None:
     namespace: dict[str, object] = {}
     for block in blocks:
         exec(compile(block, "README.md", "exec"), namespace)
+
+
+DOC_PAGES_WITH_CODE = sorted(
+    p.name for p in (ROOT / "docs").glob("*.md") if "```python" in p.read_text()
+)
+
+
+@pytest.mark.parametrize("page", DOC_PAGES_WITH_CODE)
+def test_the_python_snippets_of_each_docs_page_run(page: str) -> None:
+    """Every ```python block of a docs page runs, in order, in one namespace per page.
+
+    Illustrations that cannot run (a model directory of the reader's) are fenced ```py.
+    """
+    blocks = re.findall(r"```python\n(.*?)```", (ROOT / "docs" / page).read_text(), flags=re.S)
+    namespace: dict[str, object] = {}
+    for block in blocks:
+        exec(compile(block, page, "exec"), namespace)
 
 
 def test_relative_links_in_the_readme_and_docs_point_to_files_that_exist() -> None:
