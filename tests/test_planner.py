@@ -105,3 +105,15 @@ def test_every_summary_gives_the_planners_rate_as_the_limit() -> None:
     table = markdown_table(summaries)
     assert f"| {random_row['success_rate']:.0%} | " in table and "| 100% |" in table
     assert "collision" in table or "lost" in table or "time-out" in table  # the failure causes
+
+
+def test_passing_the_state_back_without_episode_start_keeps_the_plan() -> None:
+    policy = make_policy("planner")
+    env = make_env(policy, "random-obstacles", {"physics": "kinematic"})
+    obs, _ = env.reset(seed=100_003)
+    _, state = policy.predict(obs)
+    plan = state[0]
+    for _ in range(3):
+        obs = env.step(policy.predict(obs, state)[0])[0]
+        _, state = policy.predict(obs, state)
+        assert state[0] is plan  # the same plan object, followed, not replanned

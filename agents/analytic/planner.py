@@ -263,8 +263,8 @@ class MapPlanner:
             {k: (np.asarray(v)[i] if batched else np.asarray(v)) for k, v in observation.items()}
             for i in range(n)
         ]
-        starts = np.ones(n, dtype=bool)
-        if episode_start is not None and state is not None:
+        starts = np.zeros(n, dtype=bool)  # with a state and no episode_start: go on
+        if episode_start is not None:
             starts = np.broadcast_to(np.asarray(episode_start, dtype=bool).reshape(-1), n).copy()
         plans: list[Plan] = list(state) if state is not None and len(state) == n else [None] * n  # type: ignore[list-item]
         actions = np.zeros((n, 2), dtype=np.float32)
