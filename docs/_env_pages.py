@@ -20,6 +20,17 @@ ENVS = {
 }
 
 
+#: what each page's GIF shows (made with ``radial-ibvs render``)
+CAPTIONS = {
+    "parking": "The paper's IBVS parking in the paper's room, task 1: `radial-ibvs render "
+    "--policy ibvs --scenario paper-sim --task 1 --env-kwarg physics=kinematic`.",
+    "parking-goal": "The planner (the limit) around obstacles in a held-out room: `radial-ibvs "
+    "render --policy planner --scenario random-obstacles --seed 100003`.",
+    "parking-image": "The turn-first IBVS in the lab: `radial-ibvs render --policy "
+    "ibvs-straight --scenario paper-lab --seed 2`.",
+}
+
+
 def _load(path: str) -> type:
     module, _, name = path.rpartition(".")
     return getattr(__import__(module, fromlist=[name]), name)
@@ -33,7 +44,7 @@ def write_env_pages(folder: Path) -> None:
         picture = Path(__file__).resolve().parent / "img" / f"{page}.gif"
         lines = [f"# `{env_id}`", ""]
         if picture.is_file():
-            lines += [f"![{env_id}](../img/{page}.gif)", ""]
+            lines += [f"![{env_id}](../img/{page}.gif)", "", f"*{CAPTIONS[page]}*", ""]
         lines += [f"`{path}`", "", _demote(doc), ""]
         text = "\n".join(lines)
         target = folder / f"{page}.md"
