@@ -117,3 +117,33 @@ def test_passing_the_state_back_without_episode_start_keeps_the_plan() -> None:
         obs = env.step(policy.predict(obs, state)[0])[0]
         _, state = policy.predict(obs, state)
         assert state[0] is plan  # the same plan object, followed, not replanned
+
+
+def test_the_plan_keeps_enough_landmarks_in_view() -> None:
+    # two landmarks always seen; a third seen only between 1 and 2 m from (4, 3): the straight
+    # drive through (4, 3) loses it, so the plan goes round
+    landmarks = np.array([[0.0, 3.0, 1.0], [8.0, 3.0, 1.0], [4.0, 3.0, 1.0]])
+    ranges = np.array([[0.1, 100.0], [0.1, 100.0], [1.0, 2.0]])
+    view = (landmarks, ranges, 3)
+    start, goal = np.array([2.5, 3.0]), np.array([5.5, 3.0])
+    assert segment_free(start, goal, ROOM, NO_OBSTACLE, 0.35)
+    assert not segment_free(start, goal, ROOM, NO_OBSTACLE, 0.35, view)
+    path = plan_path(start, goal, ROOM, NO_OBSTACLE, 0.35, view=view)
+    assert path is not None and len(path) > 2
+    assert all(
+        segment_free(path[k], path[k + 1], ROOM, NO_OBSTACLE, 0.35, view)
+        for k in range(len(path) - 1)
+    )
+    far = np.array([7.0, 3.0])  # 3 m from the third landmark: it cannot be seen there
+    assert plan_path(start, far, ROOM, NO_OBSTACLE, 0.35, view=view) is None
+
+
+def test_the_map_observation_gives_each_landmarks_visible_range() -> None:
+    env = gym.make("RadialIBVS/Parking-v0", scenario="paper-lab", physics="kinematic",
+                   privileged=True, privileged_map=True)  # fmt: skip
+    obs, _ = env.reset(seed=0)
+    lo, hi = obs["landmark_range"].T
+    assert obs["landmarks"].shape == (9, 3) and (lo < hi).all()
+    d = np.hypot(*(obs["landmarks"][:, :2] - obs["robot_pose"][:2]).T)
+    seen = (d > lo) & (d < hi)
+    np.testing.assert_array_equal(seen, obs["visible"] > 0.5)  # the camera's own rule

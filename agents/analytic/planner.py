@@ -2,8 +2,8 @@
 
 It sees what no image-based policy may: the true poses and the map (``gym.make(...,
 privileged=True, privileged_map=True)``: ``robot_pose``, ``goal_pose``, ``room``,
-``obstacles``). At the start of an episode it plans a collision-free path of straight
-segments:
+``obstacles``, ``landmarks``, ``landmark_range``). At the start of an episode it plans a
+collision-free path of straight segments:
 
 - the straight segment from start to goal, where that is free;
 - otherwise a path of OMPL (RRT-Connect in SE(2), then simplified), seeded from the episode
@@ -11,12 +11,13 @@ segments:
 
 A position is free when the robot can turn in place there: its footprint swept over every
 heading (a disc of half its diagonal, plus ``margin``) stays inside the room and clear of
-every obstacle, so the follower may turn at any waypoint. The follower drives the path
-turn-drive-turn: it turns in place towards the next waypoint (forwards or backwards,
+every obstacle, so the follower may turn at any waypoint; and it sees at least
+``min_visible`` landmarks there (the env's rule), each seen when its horizontal distance lies
+within the range the nominal camera sees it at (``landmark_range``). The follower drives the
+path turn-drive-turn: it turns in place towards the next waypoint (forwards or backwards,
 whichever needs less turning), drives straight with its heading held, and at the goal turns
 to the goal heading. Speeds follow the robot's limits with deceleration ramps, so it stops on
-each waypoint within millimetres. The visibility of the landmarks is not a constraint of the
-plan (an episode that loses them ends as ``lost``, and the tables count it).
+each waypoint within millimetres.
 
 OMPL is optional: ``pip install 'radial_ibvs_gym[planning]'``.
 """
@@ -50,8 +51,17 @@ def _import_ompl() -> tuple[Any, Any, Any]:
     return base, geometric, util
 
 
-def _free(points: F64, room: F64, obstacles: F64, radius: float) -> bool:
-    """Whether discs of ``radius`` at ``points`` ``(P, 2)`` are inside the room and clear."""
+#: the landmarks the plan keeps in view: ``(landmarks (L, 3), ranges (L, 2), least count)``
+Visibility = tuple[F64, F64, int] | None
+
+
+def _free(points: F64, room: F64, obstacles: F64, radius: float, view: Visibility = None) -> bool:
+    """Whether discs of ``radius`` at ``points`` ``(P, 2)`` are inside the room and clear.
+
+    With ``view``, every point must also see at least that many landmarks: a landmark is seen
+    when its horizontal distance lies within its visible range (the omnidirectional camera
+    sees all around).
+    """
     x, y = points[:, 0], points[:, 1]
     if not ((x >= radius).all() and (y >= radius).all()):
         return False
@@ -60,17 +70,25 @@ def _free(points: F64, room: F64, obstacles: F64, radius: float) -> bool:
     for ox, oy, r in obstacles:
         if r > 0 and (np.hypot(x - ox, y - oy) < r + radius).any():
             return False
+    if view is not None:
+        landmarks, ranges, least = view
+        d = np.hypot(landmarks[None, :, 0] - x[:, None], landmarks[None, :, 1] - y[:, None])
+        seen = ((d > ranges[None, :, 0]) & (d < ranges[None, :, 1])).sum(axis=1)
+        if (seen < least).any():
+            return False
     return True
 
 
-def segment_free(a: F64, b: F64, room: F64, obstacles: F64, radius: float) -> bool:
+def segment_free(
+    a: F64, b: F64, room: F64, obstacles: F64, radius: float, view: Visibility = None
+) -> bool:
     """Whether the disc of ``radius`` (metres) moves from ``a`` to ``b`` ``(2,)`` without a hit.
 
     Checked every centimetre along the segment.
     """
     n = max(2, math.ceil(float(np.hypot(*(b - a))) / 0.01) + 1)
     t = np.linspace(0.0, 1.0, n)[:, None]
-    return _free(a + t * (b - a), room, obstacles, radius)
+    return _free(a + t * (b - a), room, obstacles, radius, view)
 
 
 def plan_path(
@@ -80,6 +98,7 @@ def plan_path(
     obstacles: F64,
     radius: float,
     *,
+    view: Visibility = None,
     time_limit_s: float = 2.0,
 ) -> F64 | None:
     """Plan a collision-free path of straight segments for a disc of ``radius`` metres.
@@ -94,6 +113,9 @@ def plan_path(
         ``(K, 3)`` circles ``(x, y, radius)``, metres (radius 0: padding).
     radius
         The disc's radius, metres.
+    view
+        ``(landmarks (L, 3), ranges (L, 2), n)``: every point of the path must see at least
+        ``n`` landmarks (``None``: no visibility rule).
     time_limit_s
         OMPL's planning budget, seconds (used only when the straight segment is blocked).
 
@@ -104,10 +126,10 @@ def plan_path(
         was found (or the start or goal is not free).
     """
     start, goal = np.asarray(start, dtype=np.float64), np.asarray(goal, dtype=np.float64)
-    if segment_free(start, goal, room, obstacles, radius):
+    if segment_free(start, goal, room, obstacles, radius, view):
         return np.stack([start, goal])
     ends = np.stack([start, goal])
-    if not _free(ends, room, obstacles, radius):
+    if not _free(ends, room, obstacles, radius, view):
         return None
     ob, og, ou = _import_ompl()
     ou.setLogLevel(ou.LogLevel.LOG_NONE)
@@ -123,7 +145,7 @@ def plan_path(
     space.setBounds(bounds)
     setup = og.SimpleSetup(space)
     setup.setStateValidityChecker(
-        lambda s: _free(np.array([[s.getX(), s.getY()]]), room, obstacles, radius)
+        lambda s: _free(np.array([[s.getX(), s.getY()]]), room, obstacles, radius, view)
     )
     setup.getSpaceInformation().setStateValidityCheckingResolution(0.005)
     begin, end = space.allocState(), space.allocState()
@@ -142,7 +164,8 @@ def plan_path(
     path = np.array([[s.getX(), s.getY()] for s in states], dtype=np.float64)
     path[0], path[-1] = start, goal
     segments_ok = all(
-        segment_free(path[k], path[k + 1], room, obstacles, radius) for k in range(len(path) - 1)
+        segment_free(path[k], path[k + 1], room, obstacles, radius, view)
+        for k in range(len(path) - 1)
     )
     return path if segments_ok else None
 
@@ -178,6 +201,9 @@ class MapPlanner:
         The robot drives only when heading within this angle of its waypoint, radians.
     time_limit_s
         OMPL's planning budget per episode, seconds.
+    min_visible
+        Every point of the plan keeps at least this many landmarks in view (the env's rule:
+        fewer end the episode as lost).
 
     Raises
     ------
@@ -194,8 +220,12 @@ class MapPlanner:
         goal_tolerance: float = 0.003,
         heading_tolerance: float = math.radians(2.0),
         time_limit_s: float = 2.0,
+        min_visible: int = 3,
     ) -> None:
         _import_ompl()
+        if isinstance(min_visible, bool) or not isinstance(min_visible, int) or min_visible < 0:
+            raise ValueError(f"min_visible must be an integer >= 0, got {min_visible!r}")
+        self.min_visible = min_visible
         self.robot = robot or RobotConfig()
         values = {
             "margin": margin,
@@ -226,9 +256,15 @@ class MapPlanner:
         goal = np.asarray(obs["goal_pose"], dtype=np.float64)
         room = np.asarray(obs["room"], dtype=np.float64)
         obstacles = np.asarray(obs["obstacles"], dtype=np.float64).reshape(-1, 3)
+        view: Visibility = None
+        if self.min_visible > 0:
+            landmarks = np.asarray(obs["landmarks"], dtype=np.float64).reshape(-1, 3)
+            ranges = np.asarray(obs["landmark_range"], dtype=np.float64).reshape(-1, 2)
+            view = (landmarks, ranges, self.min_visible)
         path = plan_path(
-            pose[:2], goal[:2], room, obstacles, self.radius, time_limit_s=self.time_limit_s
-        )
+            pose[:2], goal[:2], room, obstacles, self.radius, view=view,
+            time_limit_s=self.time_limit_s,
+        )  # fmt: skip
         if path is None:  # no free path for the turning disc: try the straight drive anyway
             return Plan(np.stack([pose[:2], goal[:2]]), float(goal[2]), failed=True)
         return Plan(path, float(goal[2]))
@@ -251,7 +287,7 @@ class MapPlanner:
             If the observation lacks the poses or the map (the message names the
             ``gym.make`` arguments to use).
         """
-        for key in ("robot_pose", "goal_pose", "room", "obstacles"):
+        for key in ("robot_pose", "goal_pose", "room", "obstacles", "landmarks", "landmark_range"):
             if key not in observation:
                 raise KeyError(
                     f"the planner needs observation[{key!r}]: make the env with {self.env_kwargs}"

@@ -133,11 +133,14 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     3D knowledge the paper's IBVS uses. With ``privileged=True`` the true ``robot_pose`` and
     ``goal_pose`` ``(x, y, yaw)`` (metres, radians, world frame) and the current true
     ``depths`` ``(N,)`` (metres) are added: for the pose oracle and the classic IBVS variants,
-    never for a vision-based policy. With ``max_landmarks=M`` every per-landmark entry is padded
-    with zeros to ``M`` slots (``c_error`` to the ``M (M - 1) / 2`` pairs, each pair at its
-    place among the slots' pairs) and ``landmark_mask`` ``Box(0, 1, (M,))`` marks the scene's
-    landmarks: one observation space for every scene with at most ``M`` landmarks, so one
-    learned model runs in all of them.
+    never for a vision-based policy. With ``privileged_map=True`` the map is added (for the
+    ``planner``): ``room`` ``(2,)``, ``obstacles`` ``(K, 3)`` ``(x, y, radius)``, ``landmarks``
+    ``(N, 3)`` and ``landmark_range`` ``(N, 2)``, the horizontal distances at which the nominal
+    camera sees each landmark (metres, zero-padded). With ``max_landmarks=M`` every
+    per-landmark entry is padded with zeros to ``M`` slots (``c_error`` to the
+    ``M (M - 1) / 2`` pairs, each pair at its place among the slots' pairs) and
+    ``landmark_mask`` ``Box(0, 1, (M,))`` marks the scene's landmarks: one observation space
+    for every scene with at most ``M`` landmarks, so one learned model runs in all of them.
 
     ## Detected points
     With ``measurement="detected"`` the points come from images, as in the paper's lab
@@ -187,7 +190,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | ``action_type`` | ``"twist"`` | ``"twist"`` ``(v, omega)`` or ``"wheels"`` (left, right) |
     | ``goal_depths`` | ``False`` | add the goal depths ``d*`` to the observation (IBVS) |
     | ``privileged`` | ``False`` | add the true poses and depths to the observation |
-    | ``privileged_map`` | ``False`` | add the map: ``room`` ``(2,)`` and ``obstacles`` ``(K, 3)`` |
+    | ``privileged_map`` | ``False`` | add the map (room, obstacles, landmarks; see below) |
     | ``measurement`` | ``"ideal"`` | ``"ideal"`` projection, or ``"detected"`` (see below) |
     | ``image_size`` / ``beacon_radius`` | ``256`` / ``0.08`` | detected mode: pixels / metres |
     | ``image_noise`` / ``image_blur`` / ``exposure`` | ``0`` / ``0`` / ``1`` | detected mode |
@@ -358,6 +361,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         if self.privileged_map:
             obs_spaces["room"] = spaces.Box(0.0, 1e3, (2,), np.float64)
             obs_spaces["obstacles"] = spaces.Box(-1e3, 1e3, (self.map_obstacles, 3), np.float64)
+            obs_spaces["landmarks"] = spaces.Box(-1e3, 1e3, (k, 3), np.float64)
+            obs_spaces["landmark_range"] = spaces.Box(0.0, 1e3, (k, 2), np.float64)
         if self.slots is not None:
             obs_spaces["landmark_mask"] = spaces.Box(0.0, 1.0, (k,), np.float32)
         self.observation_space = spaces.Dict(obs_spaces)  # type: ignore[assignment]
@@ -689,14 +694,41 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         return max(1, len(config.obstacles) + drawn)
 
     def map_observation(self, episode: Episode) -> dict[str, np.ndarray]:
-        """Return the privileged map of an episode: ``room`` ``(2,)``, ``obstacles`` ``(K, 3)``.
+        """Return the privileged map of an episode (metres, world frame, zero-padded).
 
-        ``obstacles`` rows are ``(x, y, radius)`` in metres, zero-padded (radius 0: none).
+        ``room`` ``(2,)`` width and depth; ``obstacles`` ``(K, 3)`` rows ``(x, y, radius)``
+        (radius 0: none); ``landmarks`` ``(L, 3)`` their positions; ``landmark_range``
+        ``(L, 2)`` the interval of horizontal distances at which the nominal camera sees each
+        landmark (``(0, 0)``: a padded slot; 1000 stands for no upper bound).
         """
         obstacles = np.zeros((self.map_obstacles, 3))
         given = np.asarray(episode.obstacles, dtype=np.float64).reshape(-1, 3)
         obstacles[: len(given)] = given
-        return {"room": np.asarray(episode.room, dtype=np.float64).copy(), "obstacles": obstacles}
+        k = len(episode.landmarks) if self.slots is None else self.slots.m
+        landmarks = np.asarray(episode.landmarks, dtype=np.float64)
+        padded = np.zeros((k, 3))
+        padded[: len(landmarks)] = landmarks
+        ranges = np.zeros((k, 2))
+        ranges[: len(landmarks)] = self._nominal_range(landmarks[:, 2])
+        return {
+            "room": np.asarray(episode.room, dtype=np.float64).copy(),
+            "obstacles": obstacles,
+            "landmarks": padded,
+            "landmark_range": ranges,
+        }
+
+    def _nominal_range(self, heights: np.ndarray) -> np.ndarray:
+        """``(N, 2)`` visible distance intervals of landmarks at ``heights`` (nominal camera)."""
+        key = heights.tobytes()
+        cache = self.__dict__.setdefault("_range_cache", {})
+        if key not in cache:
+            if len(cache) > 64:
+                cache.clear()
+            camera = self.scenario.config.camera.build(Imperfections())
+            bounds = camera.visible_radius_bounds(heights - self.scenario.config.camera_height)
+            lo, hi = bounds if bounds is not None else (np.zeros_like(heights), heights * 0 + 1e3)
+            cache[key] = np.stack([lo, np.minimum(hi, 1e3)], axis=-1)
+        return np.asarray(cache[key])
 
     def _obs(self) -> dict[str, np.ndarray]:
         assert self._setup is not None

@@ -420,8 +420,8 @@ class ParkingVectorEnv(VectorEnv):
         if t.privileged_map:
             setups = [self._setups[i] for i in np.arange(self.num_envs)[idx].tolist()]
             maps = [t.map_observation(s.episode) for s in setups if s is not None]
-            obs["room"] = np.stack([m["room"] for m in maps])
-            obs["obstacles"] = np.stack([m["obstacles"] for m in maps])
+            for key in ("room", "obstacles", "landmarks", "landmark_range"):
+                obs[key] = np.stack([m[key] for m in maps])
         return obs
 
     def _refresh(self, obs: dict[str, NDArray[Any]], idx: NDArray[np.intp]) -> None:
