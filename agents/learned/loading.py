@@ -25,6 +25,7 @@ from agents.learned.model_files import (
     algorithms,
     has_policy_files,
     load_policy,
+    read_normalization,
 )
 
 __all__ = ["MODELS_DIR", "LearnedPolicy", "load", "shipped_models"]
@@ -221,7 +222,7 @@ def load(name_or_path: str | Path, *, trust_pickle: bool = False) -> Any:
             raise ValueError(f"model {label}: refusing to load {zip_path}: {_PICKLE_WARNING}")
         model = _load_sb3_zip(zip_path, metadata, label)
     norm_path = directory / "normalization.npz"
-    normalization = _load_normalization(norm_path) if norm_path.is_file() else None
+    normalization = read_normalization(norm_path) if norm_path.is_file() else None
     name = str(name_or_path) if not Path(name_or_path).exists() else directory.name
     learned = LearnedPolicy(model, metadata, normalization, name)
     if metadata.get("residual") is not None:
@@ -257,20 +258,3 @@ def _load_sb3_zip(zip_path: Path, metadata: dict[str, Any], label: str) -> Any:
         pickle.UnpicklingError,
     ) as error:
         raise ValueError(f"model {label}: {zip_path} is corrupt: {str(error)[:300]}") from None
-
-
-def _load_normalization(path: Path) -> dict[str, Any]:
-    try:
-        with np.load(path) as data:
-            stats = {
-                key[len("mean/") :]: (data[key], data["var/" + key[len("mean/") :]])
-                for key in data.files
-                if key.startswith("mean/")
-            }
-            return {
-                "stats": stats,
-                "clip_obs": float(data["clip_obs"]),
-                "epsilon": float(data["epsilon"]),
-            }
-    except (OSError, KeyError, ValueError, zipfile.BadZipFile) as error:
-        raise ValueError(f"{path} is corrupt: {error}") from None

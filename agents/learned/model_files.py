@@ -21,6 +21,7 @@ import hashlib
 import io
 import json
 import os
+import zipfile
 from pathlib import Path
 from typing import Any
 
@@ -34,6 +35,7 @@ __all__ = [
     "algorithms",
     "has_policy_files",
     "load_policy",
+    "read_normalization",
     "save_model_dir",
     "save_normalization",
     "save_policy",
@@ -321,6 +323,38 @@ def save_normalization(venv: Any, path: Path | str) -> Path:
     buffer = io.BytesIO()
     np.savez(buffer, **arrays)  # type: ignore[arg-type]
     return write_atomic(out, buffer.getvalue())
+
+
+def read_normalization(path: Path | str) -> dict[str, Any]:
+    """Read :func:`save_normalization`'s ``.npz`` (plain arrays: ``np.load`` without pickles).
+
+    Returns
+    -------
+    dict
+        ``stats`` ``{key: (mean, var)}``, ``counts`` ``{key: count}`` (those saved; older files
+        have none), ``clip_obs``, ``epsilon``, and ``ret`` ``(mean, var, count)`` or ``None``.
+
+    Raises
+    ------
+    ValueError
+        If the file is not such a file (naming it).
+    """
+    try:
+        with np.load(path) as data:
+            keys = [k[len("mean/") :] for k in data.files if k.startswith("mean/")]
+            return {
+                "stats": {k: (data[f"mean/{k}"], data[f"var/{k}"]) for k in keys},
+                "counts": {k: float(data[f"count/{k}"]) for k in keys if f"count/{k}" in data},
+                "clip_obs": float(data["clip_obs"]),
+                "epsilon": float(data["epsilon"]),
+                "ret": (
+                    (data["ret_mean"], data["ret_var"], float(data["ret_count"]))
+                    if "ret_mean" in data.files
+                    else None
+                ),
+            }
+    except (OSError, KeyError, ValueError, zipfile.BadZipFile) as error:
+        raise ValueError(f"{path} is corrupt: {str(error)[:300]}") from None
 
 
 def save_model_dir(

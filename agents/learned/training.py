@@ -23,7 +23,6 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from stable_baselines3 import PPO, SAC
 from stable_baselines3.common.callbacks import BaseCallback, CheckpointCallback, EvalCallback
 from stable_baselines3.common.env_util import make_vec_env as sb3_make_vec_env
 from stable_baselines3.common.logger import configure
@@ -35,7 +34,9 @@ from agents.learned.curriculum import StartReachCurriculum
 from agents.learned.model_files import (
     DESCRIPTION,
     WEIGHTS,
+    algorithms,
     has_policy_files,
+    read_normalization,
     save_normalization,
     save_policy,
 )
@@ -45,7 +46,8 @@ from agents.plotting import save_figure
 
 __all__ = ["ALGOS", "export_model", "save_normalization", "train"]
 
-ALGOS: dict[str, Any] = {"ppo": PPO, "sac": SAC}
+#: the algorithms by name (one table: :func:`agents.learned.model_files.algorithms`)
+ALGOS: dict[str, Any] = algorithms()
 
 
 class _SaveBestFiles(BaseCallback):
@@ -137,23 +139,25 @@ def _resume(model: Any, venv: Any, path: Path) -> None:
 
 def _restore_normalization(venv: VecNormalize, path: Path, default_count: float) -> None:
     """Set a ``VecNormalize``'s statistics from :func:`save_normalization`'s ``.npz``."""
-    rms = venv.obs_rms
-    items = rms.items() if isinstance(rms, dict) else [("obs", rms)]
     try:
-        with np.load(path) as data:  # allow_pickle=False: plain arrays only
-            for key, stats in items:
-                mean, var = data[f"mean/{key}"], data[f"var/{key}"]
-                if mean.shape != stats.mean.shape or var.shape != stats.var.shape:
-                    raise ValueError(f"{key}: shape {mean.shape}, the env's is {stats.mean.shape}")
-                stats.mean, stats.var = mean.astype(np.float64), var.astype(np.float64)
-                count = f"count/{key}"
-                stats.count = float(data[count]) if count in data.files else default_count
-            if venv.norm_reward and "ret_mean" in data.files:
-                venv.ret_rms.mean = data["ret_mean"].astype(np.float64)
-                venv.ret_rms.var = data["ret_var"].astype(np.float64)
-                venv.ret_rms.count = float(data["ret_count"])
-    except (OSError, KeyError, ValueError, zipfile.BadZipFile) as error:
-        raise ValueError(f"cannot resume: {path} is corrupt: {str(error)[:300]}") from None
+        saved = read_normalization(path)
+    except ValueError as error:
+        raise ValueError(f"cannot resume: {error}") from None
+    rms = venv.obs_rms
+    for key, stats in rms.items() if isinstance(rms, dict) else [("obs", rms)]:
+        if key not in saved["stats"]:
+            raise ValueError(f"cannot resume: {path} has no statistics for {key!r}")
+        mean, var = saved["stats"][key]
+        if mean.shape != stats.mean.shape or var.shape != stats.var.shape:
+            raise ValueError(
+                f"cannot resume: {path}: {key}: shape {mean.shape}, the env's is {stats.mean.shape}"
+            )
+        stats.mean, stats.var = mean.astype(np.float64), var.astype(np.float64)
+        stats.count = saved["counts"].get(key, default_count)
+    if venv.norm_reward and saved["ret"] is not None:
+        mean, var, count = saved["ret"]
+        venv.ret_rms.mean, venv.ret_rms.var = mean.astype(np.float64), var.astype(np.float64)
+        venv.ret_rms.count = count
 
 
 def _git_revision() -> str:

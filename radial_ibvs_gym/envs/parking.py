@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import functools
 import inspect
 import math
 from dataclasses import dataclass, field
@@ -54,6 +55,9 @@ class EpisodeSetup:
         the imperfections drawn for this episode.
     imperfections
         The imperfections drawn for this episode (``None``: the scenario draws none).
+    map
+        The privileged map of the episode (:meth:`ParkingEnv.map_observation`), computed
+        once at reset when ``privileged_map=True``; else ``None``.
     """
 
     episode: Episode
@@ -65,6 +69,7 @@ class EpisodeSetup:
     c_goal: np.ndarray | None = None
     cameras: dict[str, Any] = field(default_factory=dict)
     imperfections: Imperfections | None = None
+    map: dict[str, np.ndarray] | None = None
 
 
 def _check_env_arguments(overrides: dict[str, Any], env: type) -> None:
@@ -525,6 +530,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
                 )
         if self.obs_mode == "features":
             setup.c_goal = c_ij(logic.unit_or_dummy(setup.goal_points, setup.goal_visible))
+        if self.privileged_map:  # fixed for the episode: computed once, copied at each step
+            setup.map = self.map_observation(setup.episode)
         return setup
 
     def _episode_cameras(
@@ -709,7 +716,13 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         padded = np.zeros((k, 3))
         padded[: len(landmarks)] = landmarks
         ranges = np.zeros((k, 2))
-        ranges[: len(landmarks)] = self._nominal_range(landmarks[:, 2])
+        heights = landmarks[:, 2] - self.scenario.config.camera_height
+        bounds = self._nominal_camera.visible_radius_bounds(heights)
+        if bounds is not None:  # an on-axis convex mirror (every shipped camera)
+            ranges[: len(landmarks), 0] = bounds[0]
+            ranges[: len(landmarks), 1] = np.minimum(bounds[1], 1e3)
+        else:
+            ranges[: len(landmarks), 1] = 1e3
         return {
             "room": np.asarray(episode.room, dtype=np.float64).copy(),
             "obstacles": obstacles,
@@ -717,24 +730,16 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             "landmark_range": ranges,
         }
 
-    def _nominal_range(self, heights: np.ndarray) -> np.ndarray:
-        """``(N, 2)`` visible distance intervals of landmarks at ``heights`` (nominal camera)."""
-        key = heights.tobytes()
-        cache = self.__dict__.setdefault("_range_cache", {})
-        if key not in cache:
-            if len(cache) > 64:
-                cache.clear()
-            camera = self.scenario.config.camera.build(Imperfections())
-            bounds = camera.visible_radius_bounds(heights - self.scenario.config.camera_height)
-            lo, hi = bounds if bounds is not None else (np.zeros_like(heights), heights * 0 + 1e3)
-            cache[key] = np.stack([lo, np.minimum(hi, 1e3)], axis=-1)
-        return np.asarray(cache[key])
+    @functools.cached_property
+    def _nominal_camera(self) -> Any:
+        """The scenario's camera without its imperfections: what the map's owner knows."""
+        return self.scenario.config.camera.build(Imperfections())
 
     def _obs(self) -> dict[str, np.ndarray]:
         assert self._setup is not None
         obs = self._image_obs()
-        if self.privileged_map:
-            obs.update(self.map_observation(self._setup.episode))
+        if self._setup.map is not None:
+            obs.update({key: value.copy() for key, value in self._setup.map.items()})
         return obs
 
     def _image_obs(self) -> dict[str, np.ndarray]:

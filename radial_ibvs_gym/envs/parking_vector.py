@@ -419,7 +419,7 @@ class ParkingVectorEnv(VectorEnv):
         )
         if t.privileged_map:
             setups = [self._setups[i] for i in np.arange(self.num_envs)[idx].tolist()]
-            maps = [t.map_observation(s.episode) for s in setups if s is not None]
+            maps = [s.map for s in setups if s is not None and s.map is not None]
             for key in ("room", "obstacles", "landmarks", "landmark_range"):
                 obs[key] = np.stack([m[key] for m in maps])
         return obs
