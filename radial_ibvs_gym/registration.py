@@ -19,12 +19,14 @@ __all__ = [
 ENTRY_POINTS: dict[str, str] = {
     "RadialIBVS/Parking-v0": "radial_ibvs_gym.envs.parking:ParkingEnv",
     "RadialIBVS/ParkingGoal-v0": "radial_ibvs_gym.envs.parking_goal:ParkingGoalEnv",
+    "RadialIBVS/ParkingGoal-v1": "radial_ibvs_gym.envs.parking_goal:ParkingGoalEnvV1",
     "RadialIBVS/ParkingImage-v0": "radial_ibvs_gym.envs.parking_image:ParkingImageEnv",
 }
 #: the ids with a native batched vector env (``gym.make_vec(..., "vector_entry_point")``)
 VECTOR_ENTRY_POINTS: dict[str, str] = {
     "RadialIBVS/Parking-v0": "radial_ibvs_gym.envs.parking_vector:ParkingVectorEnv",
     "RadialIBVS/ParkingGoal-v0": "radial_ibvs_gym.envs.parking_vector:ParkingGoalVectorEnv",
+    "RadialIBVS/ParkingGoal-v1": "radial_ibvs_gym.envs.parking_vector:ParkingGoalVectorEnvV1",
 }
 ENV_IDS: tuple[str, ...] = tuple(ENTRY_POINTS)
 #: the time limit of every registration: 600 control steps (60 s at ``control_dt = 0.1`` s)

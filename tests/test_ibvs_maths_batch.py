@@ -62,3 +62,46 @@ def test_degenerate_goal_image_gives_zero_command(batches):
     action, _ = IBVSPolicy().predict(obs)
     np.testing.assert_array_equal(action[0], 0.0)
     assert np.all(np.isfinite(action))
+
+
+def test_goal_cache_gives_the_uncached_result_exactly(batches):
+    """The per-episode goal terms change nothing: the same bits as computing them every step."""
+    from dataclasses import fields
+
+    from agents.analytic.ibvs_maths_batch import GoalCache, GoalTerms, ibvs_twist_batch
+
+    cache = GoalCache()
+    rng = np.random.default_rng(0)
+    hidden_rows = 0
+    for obs in batches:
+        obs = {k: v.copy() for k, v in obs.items()}
+        obs["visible"][rng.random(obs["visible"].shape) < 0.1] = 0.0  # some landmarks hidden
+        args = (obs["points"], obs["goal_points"], obs["goal_depths"], obs["visible"])
+        terms = cache.terms(obs["goal_points"], obs["goal_depths"])
+        fresh = GoalTerms.of(obs["goal_points"], obs["goal_depths"])
+        for f in fields(fresh):
+            np.testing.assert_array_equal(getattr(terms, f.name), getattr(fresh, f.name))
+        cached, plain = ibvs_twist_batch(*args, goal=terms), ibvs_twist_batch(*args)
+        for a, b in zip(cached, plain, strict=True):
+            np.testing.assert_array_equal(a, b)
+        hidden_rows += int(np.any((obs["visible"] < 0.5) & terms.seen, axis=1).sum())
+        small = cache.terms(obs["goal_points"][:3], obs["goal_depths"][:3])  # a second size
+        np.testing.assert_array_equal(small.normal, fresh.normal[:3])
+    assert hidden_rows > 100  # the path of the steps with landmarks out of view ran
+
+
+def test_goal_cache_recomputes_a_changed_goal_only(batches):
+    from agents.analytic.ibvs_maths_batch import GoalCache, GoalTerms
+
+    obs = batches[0]
+    cache = GoalCache()
+    first = cache.terms(obs["goal_points"], obs["goal_depths"])
+    before = first.normal.copy()
+    goal_points, goal_depths = obs["goal_points"].copy(), obs["goal_depths"].copy()
+    goal_points[5], goal_depths[5] = batches[-1]["goal_points"][7], batches[-1]["goal_depths"][7]
+    again = cache.terms(goal_points, goal_depths)
+    assert again is first  # updated in place
+    expected = GoalTerms.of(goal_points[5:6], goal_depths[5:6])
+    np.testing.assert_array_equal(again.normal[5], expected.normal[0])
+    np.testing.assert_array_equal(np.delete(again.normal, 5, 0), np.delete(before, 5, 0))
+    assert not np.array_equal(again.normal[5], before[5])

@@ -32,7 +32,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from agents.analytic.ibvs_maths import GoalModel, ibvs_twist, park_command
-from agents.analytic.ibvs_maths_batch import ibvs_twist_batch, park_command_batch
+from agents.analytic.ibvs_maths_batch import GoalCache, ibvs_twist_batch, park_command_batch
 from radial_ibvs_gym.features import L_alpha_m, L_cij, alpha_m, c_ij
 from radial_ibvs_gym.geometry import wrap_angle_scalar
 from radial_ibvs_gym.physics import RobotConfig
@@ -119,6 +119,8 @@ class IBVSPolicy:
         self.compensation: Literal["derived", "printed"] = compensation
         self.allow_backward = bool(allow_backward)
         self._goal_cache: OrderedDict[bytes, GoalModel | None] = OrderedDict()
+        #: the goal terms of the last batch (a residual env steps the same goals all episode)
+        self._batch_goals = GoalCache()
 
     @property
     def env_kwargs(self) -> dict[str, bool]:
@@ -191,9 +193,10 @@ class IBVSPolicy:
 
     def _predict_batch(self, obs: dict[str, np.ndarray]) -> np.ndarray:
         """Act for a batch in one vectorised pass (:mod:`agents.analytic.ibvs_maths_batch`)."""
+        goal = self._batch_goals.terms(obs["goal_points"], obs["goal_depths"])
         v, gamma, _ = ibvs_twist_batch(
             obs["points"], obs["goal_points"], obs["goal_depths"], obs["visible"],
-            self.lam, self.compensation, frame_change=self.variant == "paper",
+            self.lam, self.compensation, frame_change=self.variant == "paper", goal=goal,
         )  # fmt: skip
         v_max, w_max = self.robot.max_linear_speed, self.robot.max_angular_speed
         v_l, omega = park_command_batch(

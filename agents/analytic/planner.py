@@ -204,6 +204,16 @@ class MapPlanner:
     min_visible
         Every point of the plan keeps at least this many landmarks in view (the env's rule:
         fewer end the episode as lost).
+    drive_gate
+        ``0`` (the default): turn in place until heading within ``heading_tolerance``, then
+        drive. ``> 0``: drive and turn together, the speed faded linearly from full at zero
+        heading error to zero at ``drive_gate`` radians, so the command is a continuous
+        function of the pose (what a student can learn: :mod:`agents.learned.distill`).
+    hold_radius
+        Within this distance of a waypoint the follower holds its heading and only drives
+        along it (the bearing is sensitive to millimetres there), metres. A teacher labelling
+        states off its own path (:mod:`agents.learned.distill`) uses 0: from a state beside
+        the goal it turns towards it instead of stopping there.
 
     Raises
     ------
@@ -221,6 +231,8 @@ class MapPlanner:
         heading_tolerance: float = math.radians(2.0),
         time_limit_s: float = 2.0,
         min_visible: int = 3,
+        hold_radius: float = 0.03,
+        drive_gate: float = 0.0,
     ) -> None:
         _import_ompl()
         if isinstance(min_visible, bool) or not isinstance(min_visible, int) or min_visible < 0:
@@ -234,15 +246,20 @@ class MapPlanner:
             "goal_tolerance": goal_tolerance,
             "heading_tolerance": heading_tolerance,
             "time_limit_s": time_limit_s,
+            "hold_radius": hold_radius,
+            "drive_gate": drive_gate,
         }
         for name, value in values.items():
-            if not (math.isfinite(value) and value >= 0 and (value > 0 or name == "margin")):
+            zero_ok = name in ("margin", "hold_radius", "drive_gate")
+            if not (math.isfinite(value) and value >= 0 and (value > 0 or zero_ok)):
                 raise ValueError(f"{name} must be finite and positive, got {value!r}")
         self.margin, self.gain = float(margin), float(gain)
         self.waypoint_tolerance = float(waypoint_tolerance)
         self.goal_tolerance = float(goal_tolerance)
         self.heading_tolerance = float(heading_tolerance)
         self.time_limit_s = float(time_limit_s)
+        self.hold_radius = float(hold_radius)
+        self.drive_gate = float(drive_gate)
         self.radius = 0.5 * math.hypot(self.robot.length, self.robot.width) + self.margin
 
     env_kwargs: dict[str, bool] = {"privileged": True, "privileged_map": True}  # noqa: RUF012
@@ -336,11 +353,15 @@ class MapPlanner:
         forward, backward = _wrap(bearing - yaw), _wrap(bearing + math.pi - yaw)
         direction, error = (1.0, forward) if abs(forward) <= abs(backward) else (-1.0, backward)
         along = distance * math.cos(error)
-        if distance < 0.03:  # close: the bearing is sensitive to millimetres; hold the heading
+        if distance < self.hold_radius:  # close: the bearing is sensitive to mm; hold heading
             speed = self._ramp(abs(along), v_max, robot.max_linear_accel)
             v = direction * math.copysign(speed, along)
             return np.array([v / v_max, 0.0])
         omega = math.copysign(self._ramp(abs(error), w_max, robot.max_angular_accel), error)
+        if self.drive_gate > 0:  # turn and drive together, slower the more the heading is off
+            fade = max(0.0, 1.0 - abs(error) / self.drive_gate)
+            v = direction * fade * self._ramp(max(along, 0.0), v_max, robot.max_linear_accel)
+            return np.array([v / v_max, omega / w_max])
         if abs(error) > self.heading_tolerance:  # turn in place first
             return np.array([0.0, omega / w_max])
         v = direction * self._ramp(max(along, 0.0), v_max, robot.max_linear_accel)

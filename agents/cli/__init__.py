@@ -1,8 +1,9 @@
 """The ``radial-ibvs`` command line: a short dispatcher, one module per command.
 
 Each command module (:mod:`.demo`, :mod:`.reproduce`, :mod:`.evaluate`, :mod:`.train`,
-:mod:`.benchmark`, :mod:`.sweep`, :mod:`.render`, :mod:`.image`) has ``add_parser(sub)`` and
-``run(args)``; its heavy imports happen inside ``run``, so ``radial-ibvs --help`` is instant.
+:mod:`.distill`, :mod:`.collect`, :mod:`.benchmark`, :mod:`.sweep`, :mod:`.render`,
+:mod:`.image`) has ``add_parser(sub)`` and ``run(args)``; its heavy imports happen inside
+``run``, so ``radial-ibvs --help`` is instant.
 """
 
 from __future__ import annotations
@@ -11,7 +12,18 @@ import argparse
 import sys
 from collections.abc import Sequence
 
-from agents.cli import benchmark, demo, evaluate, image, render, reproduce, sweep, train
+from agents.cli import (
+    benchmark,
+    collect,
+    demo,
+    distill,
+    evaluate,
+    image,
+    render,
+    reproduce,
+    sweep,
+    train,
+)
 
 __all__ = ["COMMANDS", "build_parser", "main"]
 
@@ -21,6 +33,8 @@ COMMANDS = {
     "reproduce": reproduce,
     "evaluate": evaluate,
     "train": train,
+    "distill": distill,
+    "collect": collect,
     "benchmark": benchmark,
     "sweep": sweep,
     "render": render,

@@ -22,7 +22,9 @@ def add_parser(sub: Any) -> None:
             "`radial-ibvs evaluate --policy DIR` and agents.load(DIR) read."
         ),
     )
-    parser.add_argument("--algo", choices=("ppo", "sac"), default="ppo")
+    parser.add_argument(
+        "--algo", choices=("ppo", "sac", "tqc"), default="ppo", help="tqc needs sb3-contrib"
+    )
     parser.add_argument("--config", type=Path, required=True, help="rl-zoo3-format YAML file")
     parser.add_argument("--env-id", help="config section (default: the file's only one)")
     parser.add_argument("--seed", type=int, default=0, help="default: %(default)s")

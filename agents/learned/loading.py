@@ -171,9 +171,10 @@ def load(name_or_path: str | Path, *, trust_pickle: bool = False) -> Any:
 
     Returns
     -------
-    LearnedPolicy or agents.learned.residual.ResidualPolicy
-        The latter when the metadata has a ``residual`` entry (a correction to an analytic
-        policy, which it builds too).
+    LearnedPolicy, agents.learned.history.HistoryPolicy or agents.learned.residual.ResidualPolicy
+        A ``HistoryPolicy`` when the metadata has a ``history`` entry (the model sees the last
+        frames; the policy keeps them in its ``state``), a ``ResidualPolicy`` when it has a
+        ``residual`` entry (a correction to an analytic policy, which it builds too).
 
     Raises
     ------
@@ -224,7 +225,12 @@ def load(name_or_path: str | Path, *, trust_pickle: bool = False) -> Any:
     norm_path = directory / "normalization.npz"
     normalization = read_normalization(norm_path) if norm_path.is_file() else None
     name = str(name_or_path) if not Path(name_or_path).exists() else directory.name
-    learned = LearnedPolicy(model, metadata, normalization, name)
+    learned: Any = LearnedPolicy(model, metadata, normalization, name)
+    if metadata.get("history") is not None:
+        from agents.learned.history import HistoryConfig, HistoryPolicy
+
+        history = HistoryConfig.from_mapping(metadata["history"], f"{meta_path}: history")
+        learned = HistoryPolicy(learned, history)
     if metadata.get("residual") is not None:
         from agents.learned.residual import ResidualConfig, ResidualPolicy
 

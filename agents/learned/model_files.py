@@ -52,10 +52,18 @@ _NOT_STORED = {"observation_space", "action_space", "lr_schedule"}
 
 
 def algorithms() -> dict[str, Any]:
-    """Return the SB3 algorithms a model may name: ``{"ppo": PPO, "sac": SAC}``."""
+    """Return the SB3 algorithms a model may name: ``ppo``, ``sac``, and ``tqc`` (sb3-contrib).
+
+    TQC is there when sb3-contrib is installed (``pip install 'radial_ibvs_gym[contrib]'``).
+    """
     from stable_baselines3 import PPO, SAC
 
-    return {"ppo": PPO, "sac": SAC}
+    found: dict[str, Any] = {"ppo": PPO, "sac": SAC}
+    try:
+        from sb3_contrib import TQC
+    except ImportError:
+        return found
+    return {**found, "tqc": TQC}
 
 
 def has_policy_files(directory: Path) -> bool:
@@ -77,10 +85,13 @@ def _allowed_classes() -> dict[str, type]:
     import torch
     from stable_baselines3.common import torch_layers
 
+    from agents.learned import extractors
+
     groups = (
         (vars(torch.nn.modules.activation).values(), torch.nn.Module),
         (vars(torch.optim).values(), torch.optim.Optimizer),
         (vars(torch_layers).values(), torch_layers.BaseFeaturesExtractor),
+        (vars(extractors).values(), torch_layers.BaseFeaturesExtractor),  # this project's
     )
     return {
         _name(obj): obj

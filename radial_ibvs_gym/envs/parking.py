@@ -6,6 +6,7 @@ import dataclasses
 import functools
 import inspect
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Literal
@@ -17,6 +18,7 @@ from gymnasium import spaces
 from radial_ibvs_gym.camera import Imperfections
 from radial_ibvs_gym.config import did_you_mean, short
 from radial_ibvs_gym.envs import logic
+from radial_ibvs_gym.envs.missed import MissedDetections, MissedState
 from radial_ibvs_gym.features import c_ij, pair_indices
 from radial_ibvs_gym.geometry import world_to_camera, wrap_angle_scalar
 from radial_ibvs_gym.physics import BACKENDS, RobotConfig, World, make_world, wheels_to_twist
@@ -58,6 +60,8 @@ class EpisodeSetup:
     map
         The privileged map of the episode (:meth:`ParkingEnv.map_observation`), computed
         once at reset when ``privileged_map=True``; else ``None``.
+    missed
+        The episode's missed detections (``missed_detections``), or ``None``.
     """
 
     episode: Episode
@@ -70,6 +74,7 @@ class EpisodeSetup:
     cameras: dict[str, Any] = field(default_factory=dict)
     imperfections: Imperfections | None = None
     map: dict[str, np.ndarray] | None = None
+    missed: MissedState | None = None
 
 
 def _check_env_arguments(overrides: dict[str, Any], env: type) -> None:
@@ -181,8 +186,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     ## Episode End
     Termination: success (position error <= ``success_position_m`` and heading error <=
     ``success_heading_deg``), a collision (if ``terminate_on_collision``), or fewer than
-    ``min_visible`` visible landmarks. Truncation: ``max_episode_steps`` of the registration
-    (600 steps of ``control_dt = 0.1`` s).
+    ``min_visible`` visible landmarks (``info["lost"]`` is then ``True``). Truncation:
+    ``max_episode_steps`` of the registration (600 steps of ``control_dt = 0.1`` s).
 
     ## Arguments
     | argument | default | meaning |
@@ -204,6 +209,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | ``min_visible`` | ``3`` | fewer visible landmarks terminate the episode |
     | ``terminate_on_collision`` | ``True`` | |
     | ``max_landmarks`` | ``None`` | landmark slots: pad to this many, add ``landmark_mask`` |
+    | ``missed_detections`` | ``None`` | ``{"rate": p, "steps": [lo, hi]}``: missed landmarks |
     | ``start_reach`` | ``1.0`` | in (0, 1]: starts near the goal, for a curriculum (below) |
     | ``**scenario_overrides`` | | scenario keys, e.g. ``depth_scale=1.3`` |
 
@@ -244,6 +250,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         min_visible: int = 3,
         terminate_on_collision: bool = True,
         max_landmarks: int | None = None,
+        missed_detections: Mapping[str, Any] | MissedDetections | None = None,
         start_reach: float = 1.0,
         w_position: float = 1.0,
         w_heading: float = 0.3,
@@ -318,6 +325,9 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
                 raise ValueError(f"{name} must be finite and >= 0, got {weight!r}")
         self.render_mode = render_mode
         self.measurement = measurement
+        self.missed_detections = MissedDetections.from_value(missed_detections)
+        if self.missed_detections is not None and measurement == "detected":
+            raise ValueError("missed_detections is for measurement='ideal' (detected: real misses)")
         self._detector: DetectedPoints | None = None
         if measurement == "detected":
             specs = (self.scenario.config.camera, self.scenario.config.goal_camera)
@@ -412,7 +422,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             self._prev_errors, now, result.collision, lost, success, self.weights
         )
         self._prev_errors = now
-        info = self._info(result.pose, now, bool(success), result.collision)
+        info = self._info(result.pose, now, bool(success), result.collision, bool(lost))
         info["reward_terms"] = terms
         if self.render_mode is not None:
             self._trail.append(result.pose[:2].copy())
@@ -532,6 +542,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             setup.c_goal = c_ij(logic.unit_or_dummy(setup.goal_points, setup.goal_visible))
         if self.privileged_map:  # fixed for the episode: computed once, copied at each step
             setup.map = self.map_observation(setup.episode)
+        if self.missed_detections is not None:
+            setup.missed = self.missed_detections.start(rng, len(setup.episode.landmarks))
         return setup
 
     def _episode_cameras(
@@ -675,6 +687,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             self._points, self._visible = self._detector.observe(pose, self.np_random)
         else:
             self._points, self._visible = self.image(self._setup, pose, "current", self.np_random)
+            if self._setup.missed is not None:
+                self._points, self._visible = self._setup.missed.apply(self._points, self._visible)
         self._n_visible = int(np.count_nonzero(self._visible))
 
     def _feature_errors(self) -> tuple[np.ndarray, np.ndarray]:
@@ -767,6 +781,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         errors: tuple[Any, Any],
         success: bool,
         collision: bool,
+        lost: bool = False,
     ) -> dict[str, Any]:
         assert self._setup is not None
         return {
@@ -776,6 +791,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             "heading_error_deg": math.degrees(float(errors[1])),
             "is_success": bool(success),
             "collision": bool(collision),
+            "lost": bool(lost),
             "n_visible": self._n_visible,
             "task": self._setup.episode.task,
             "goal_depths": self._setup.goal_depths.copy(),

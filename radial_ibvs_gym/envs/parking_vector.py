@@ -22,12 +22,12 @@ from numpy.typing import NDArray
 from radial_ibvs_gym.envs import logic
 from radial_ibvs_gym.envs.logic import IMPERFECTION_KEYS
 from radial_ibvs_gym.envs.parking import EpisodeSetup, ParkingEnv
-from radial_ibvs_gym.envs.parking_goal import ParkingGoalEnv
+from radial_ibvs_gym.envs.parking_goal import ParkingGoalEnv, ParkingGoalEnvV1
 from radial_ibvs_gym.limits import MAX_NUM_ENVS
 from radial_ibvs_gym.physics.fleet import make_fleet
 from radial_ibvs_gym.registration import MAX_EPISODE_STEPS
 
-__all__ = ["ParkingGoalVectorEnv", "ParkingVectorEnv"]
+__all__ = ["ParkingGoalVectorEnv", "ParkingGoalVectorEnvV1", "ParkingVectorEnv"]
 
 #: accepted spellings: Gymnasium's values (``"NextStep"``) and snake case (``"next_step"``)
 _MODES = {k: m for m in AutoresetMode for k in (m.value, m.name.lower())}
@@ -313,7 +313,7 @@ class ParkingVectorEnv(VectorEnv):
             if self.max_episode_steps is not None
             else np.zeros(n, dtype=bool)
         )
-        info = self._info(poses, now, success, collision, n_visible)
+        info = self._info(poses, now, success, collision, n_visible, lost)
         info["reward_terms"] = _masked(terms, np.ones(n, dtype=bool))
         info["_reward_terms"] = np.ones(n, dtype=bool)
         obs = self._observation()
@@ -368,6 +368,12 @@ class ParkingVectorEnv(VectorEnv):
                     poses[indices],
                 )
             self._points[indices], self._visible[indices] = pts, vis
+            if self.template.missed_detections is not None:
+                for i in indices.tolist():
+                    missed = self._setups[i].missed
+                    self._points[i], self._visible[i] = missed.apply(
+                        self._points[i], self._visible[i]
+                    )
         else:  # a camera with imperfections: exact projection and noise, env by env
             for i in indices.tolist():
                 rng = self._rngs[i]
@@ -377,6 +383,10 @@ class ParkingVectorEnv(VectorEnv):
                 self._points[i], self._visible[i] = self.template.image(
                     setup, poses[i], "current", rng
                 )
+                if setup.missed is not None:
+                    self._points[i], self._visible[i] = setup.missed.apply(
+                        self._points[i], self._visible[i]
+                    )
         if self.template.obs_mode == "features":
             both = self._visible[indices] & self._goal_visible[indices]
             changed = (both != self._both[indices]).any(axis=1)
@@ -437,6 +447,7 @@ class ParkingVectorEnv(VectorEnv):
         success: NDArray[np.bool_],
         collision: NDArray[np.bool_],
         n_visible: NDArray[np.integer[Any]],
+        lost: NDArray[np.bool_] | None = None,
     ) -> dict[str, Any]:
         values = {
             "robot_pose": poses.copy(),
@@ -445,6 +456,7 @@ class ParkingVectorEnv(VectorEnv):
             "heading_error_deg": np.degrees(errors[1]),
             "is_success": np.asarray(success, dtype=bool),
             "collision": np.asarray(collision, dtype=bool),
+            "lost": np.zeros(self.num_envs, bool) if lost is None else np.asarray(lost, bool),
             "n_visible": np.asarray(n_visible, dtype=np.int64),
             "task": self._tasks.copy(),
             "goal_depths": self._goal_depths.copy(),
@@ -471,6 +483,7 @@ class ParkingVectorEnv(VectorEnv):
             "heading_error_deg": np.degrees(errors[1]),
             "is_success": no,
             "collision": no,
+            "lost": no,
             "n_visible": self._visible[indices].sum(axis=1).astype(np.int64),
             "task": self._tasks[indices],
             "goal_depths": self._goal_depths[indices],
@@ -538,6 +551,50 @@ class ParkingGoalVectorEnv(ParkingVectorEnv):
             None,
         )
         return logic.goal_reward_terms(terms, distance.astype(np.float64))
+
+
+class ParkingGoalVectorEnvV1(ParkingVectorEnv):
+    """``RadialIBVS/ParkingGoal-v1`` for ``num_envs`` robots (all reward in ``compute_reward``).
+
+    Same as :class:`ParkingVectorEnv` with the observation and reward of
+    :class:`~radial_ibvs_gym.envs.parking_goal.ParkingGoalEnvV1`: the step reward of each
+    robot equals ``compute_reward(achieved_goal, desired_goal, info)`` for its row.
+    """
+
+    _scalar_class = ParkingGoalEnvV1
+
+    def compute_reward(
+        self, achieved_goal: NDArray[Any], desired_goal: NDArray[Any], info: Any
+    ) -> NDArray[np.float64]:
+        """Return :meth:`ParkingGoalEnvV1.compute_reward` (batched goals and infos)."""
+        template: ParkingGoalEnvV1 = self.template  # type: ignore[assignment]
+        return template.compute_reward(achieved_goal, desired_goal, info)
+
+    def _observation(self, idx: Any = slice(None)) -> dict[str, NDArray[Any]]:
+        points = self._points[idx]
+        n = len(points)
+        obs = {
+            "points": points.reshape(n, -1),
+            "visible": self._visible[idx].astype(np.float32),
+            "goal_points": self._goal_points[idx].reshape(n, -1),
+        }
+        if self.template.slots is not None:
+            obs = self.template.slots.pad(obs)
+        return logic.goal_observation(obs["points"], obs["visible"], obs["goal_points"])
+
+    def _reward_terms(
+        self,
+        previous: tuple[NDArray[np.float64], NDArray[np.float64]],
+        now: tuple[NDArray[np.float64], NDArray[np.float64]],
+        collision: NDArray[np.bool_],
+        lost: NDArray[np.bool_],
+        success: NDArray[np.bool_],
+    ) -> dict[str, NDArray[np.float64]]:
+        obs = self._observation()
+        events = {"collision": collision, "lost": lost}
+        template: ParkingGoalEnvV1 = self.template  # type: ignore[assignment]
+        terms = template.reward_terms_of(obs["achieved_goal"], obs["desired_goal"], events)
+        return {k: np.asarray(v, dtype=np.float64) for k, v in terms.items()}
 
 
 def _spread(values: dict[str, Any], indices: NDArray[np.intp], mask: NDArray[np.bool_]) -> dict:

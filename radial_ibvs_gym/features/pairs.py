@@ -53,7 +53,8 @@ def pair_indices(n: int) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
 
 def _cij(x: NDArray[np.float64]) -> NDArray[np.float64]:
     i, j = pair_indices(x.shape[-2])
-    out: NDArray[np.float64] = np.sum(x[..., i, :] * x[..., j, :], axis=-1)
+    xs, ys = x[..., 0], x[..., 1]  # two products and a sum: as np.sum over the last axis
+    out: NDArray[np.float64] = xs[..., i] * xs[..., j] + ys[..., i] * ys[..., j]
     return out
 
 

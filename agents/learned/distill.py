@@ -1,0 +1,587 @@
+"""Distil a privileged teacher into an image-only student by DAgger (Ross et al., 2011).
+
+The teacher (the ``planner`` by default) sees the poses and the map; the student sees only what
+the other learned models see (the features observation: landmark slots, ``c_ij`` errors,
+``alpha_m`` error, goal depths; optionally a short history, :mod:`agents.learned.history`).
+Each round:
+
+1. the vector env is stepped with, per robot and step, the teacher's action with probability
+   ``beta`` and the student's otherwise (``beta`` is 1 in the first round and decays);
+2. the teacher labels every state visited (the student's states included: that is DAgger);
+3. the student, an SB3 ``MultiInputPolicy`` (the actor of a PPO model), is fitted to all the
+   labels so far (mean squared error of its mean action), and evaluated on held-out seeds.
+
+The ``imitation`` package's DAgger would be the library for this, but its releases pin
+gymnasium 0.29 and stable-baselines3 2.2 (this project needs gymnasium >= 1.0), so the loop is
+written here, over SB3's policy and torch. Observations are normalised with statistics fixed
+after the first round, stored as the model's ``normalization.npz``; the result is an SB3 PPO
+model directory that :func:`agents.load` runs like the others, with no analytic policy in it.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import time
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from agents.analytic import make_analytic
+from agents.io import write_json
+from agents.learned.extractors import ERROR_KEYS, ErrorScaleExtractor, error_key_of
+from agents.learned.history import HistoryConfig, HistoryStack, history_space
+from radial_ibvs_gym.config import read_yaml
+
+__all__ = ["DaggerConfig", "dagger", "dataset_labels", "goal_in_robot_frame", "load_dagger_config"]
+
+#: the student's activations, by name (torch.nn classes)
+ACTIVATIONS = {"relu": "ReLU", "tanh": "Tanh"}
+#: what the teacher needs added to the observation (the planner's poses and map)
+PRIVILEGED = {"privileged": True, "privileged_map": True}
+
+
+@dataclass(frozen=True)
+class DaggerConfig:
+    """A validated DAgger configuration (``configs/agents/dagger_*.yaml``).
+
+    Attributes
+    ----------
+    env_id
+        The Gymnasium id (with a native vector env).
+    env_kwargs
+        The student's ``gym.make`` arguments (its observation); the teacher's privileged
+        keys are added for the rollouts only.
+    teacher, teacher_kwargs
+        The teacher's name in :data:`agents.analytic.ANALYTIC_POLICIES` and its arguments.
+    n_envs
+        Robots stepped together.
+    rounds
+        DAgger rounds.
+    steps_per_round
+        Env steps collected per round (all robots together).
+    beta, beta_decay
+        Probability that the teacher's action is executed in round 0, multiplied by
+        ``beta_decay`` each round.
+    updates_per_round, batch_size, learning_rate
+        Gradient steps after each round, their batch size and Adam's step size.
+    dataset_size
+        The largest number of labelled states kept (older ones are replaced at random).
+    net_arch
+        Hidden layers of the student (and of its critic, for a later PPO fine-tuning).
+    activation
+        ``relu`` or ``tanh`` (SB3's PPO default).
+    history
+        The observation history the student gets (:class:`HistoryConfig`), or ``None``.
+    error_keys
+        The keys given to the network as direction and log-size
+        (:class:`agents.learned.extractors.ErrorScaleExtractor`); empty: raw, normalised.
+    initial_dataset
+        A Minari dataset of the teacher's episodes (``radial-ibvs collect --policy planner``,
+        its directory): its states and actions join the labels before the first round.
+    aux_weight
+        Weight of the auxiliary loss (the goal's pose in the robot frame, predicted from the
+        actor's last hidden layer by a head used in training only; 0: none).
+    eval_episodes, eval_seed
+        Held-out episodes evaluated after each round (seeds ``eval_seed + i``).
+    """
+
+    env_id: str = "RadialIBVS/Parking-v0"
+    env_kwargs: dict[str, Any] = field(default_factory=dict)
+    teacher: str = "planner"
+    teacher_kwargs: dict[str, Any] = field(default_factory=dict)
+    n_envs: int = 256
+    rounds: int = 20
+    steps_per_round: int = 65_536
+    beta: float = 1.0
+    beta_decay: float = 0.5
+    updates_per_round: int = 2_000
+    batch_size: int = 4_096
+    learning_rate: float = 1e-3
+    dataset_size: int = 2_000_000
+    net_arch: tuple[int, ...] = (256, 256)
+    activation: str = "relu"
+    history: HistoryConfig | None = None
+    error_keys: tuple[str, ...] = ERROR_KEYS
+    aux_weight: float = 1.0
+    initial_dataset: str | None = None
+    eval_episodes: int = 100
+    eval_seed: int = 10_000
+    source: dict[str, Any] = field(default_factory=dict)
+
+
+_INTS = ("n_envs", "rounds", "steps_per_round", "updates_per_round", "batch_size")
+_INTS_MORE = ("dataset_size", "eval_episodes", "eval_seed")
+
+
+def load_dagger_config(path: Path | str) -> DaggerConfig:
+    """Read and validate a DAgger YAML file (its ``dagger:`` section).
+
+    Raises
+    ------
+    ValueError
+        For an unknown key or a bad value (the message names the key and the value).
+    """
+    data = read_yaml(path)
+    section = data.get("dagger") if isinstance(data, Mapping) else None
+    if not isinstance(section, Mapping):
+        raise ValueError(f"{path}: expected a 'dagger:' mapping")
+    where = f"{path}: dagger"
+    known = {f for f in DaggerConfig.__dataclass_fields__ if f != "source"}
+    unknown = sorted(set(section) - known)
+    if unknown:
+        raise ValueError(f"{where}: unknown key(s) {unknown}; valid: {sorted(known)}")
+    values: dict[str, Any] = {}
+    for key in (*_INTS, *_INTS_MORE):
+        if key in section:
+            value = section[key]
+            if isinstance(value, float) and value.is_integer():
+                value = int(value)
+            least = 0 if key == "eval_seed" else 1
+            if isinstance(value, bool) or not isinstance(value, int) or value < least:
+                raise ValueError(f"{where}.{key} must be an integer >= {least}, got {value!r}")
+            values[key] = value
+    for key, low, high in (("beta", 0.0, 1.0), ("beta_decay", 0.0, 1.0)):
+        if key in section:
+            value = section[key]
+            if not isinstance(value, int | float) or not low <= value <= high:
+                raise ValueError(f"{where}.{key} must be in [{low}, {high}], got {value!r}")
+            values[key] = float(value)
+    if "aux_weight" in section:
+        value = section["aux_weight"]
+        if not isinstance(value, int | float) or not (math.isfinite(value) and value >= 0):
+            raise ValueError(f"{where}.aux_weight must be a number >= 0, got {value!r}")
+        values["aux_weight"] = float(value)
+    if "learning_rate" in section:
+        value = section["learning_rate"]
+        if not isinstance(value, int | float) or not (math.isfinite(value) and value > 0):
+            raise ValueError(f"{where}.learning_rate must be a positive number, got {value!r}")
+        values["learning_rate"] = float(value)
+    for key in ("env_kwargs", "teacher_kwargs"):
+        if key in section:
+            if not isinstance(section[key], Mapping):
+                raise ValueError(f"{where}.{key} must be a mapping, got {section[key]!r}")
+            values[key] = dict(section[key])
+    for key in ("env_id", "teacher", "initial_dataset"):
+        if key in section:
+            values[key] = str(section[key])
+    if "activation" in section:
+        if section["activation"] not in ACTIVATIONS:
+            raise ValueError(
+                f"{where}.activation must be one of {sorted(ACTIVATIONS)}, "
+                f"got {section['activation']!r}"
+            )
+        values["activation"] = section["activation"]
+    if "net_arch" in section:
+        arch = section["net_arch"]
+        if not isinstance(arch, list) or not all(
+            isinstance(n, int) and not isinstance(n, bool) and n > 0 for n in arch
+        ):
+            raise ValueError(f"{where}.net_arch must be a list of positive integers, got {arch!r}")
+        values["net_arch"] = tuple(arch)
+    if "error_keys" in section:
+        keys = section["error_keys"]
+        if not isinstance(keys, list) or not all(isinstance(k, str) for k in keys):
+            raise ValueError(f"{where}.error_keys must be a list of key names, got {keys!r}")
+        values["error_keys"] = tuple(keys)
+    if section.get("history") is not None:
+        values["history"] = HistoryConfig.from_mapping(section["history"], f"{where}.history")
+    config = DaggerConfig(**values, source={"file": str(path), "dagger": dict(section)})
+    make_analytic(config.teacher, **config.teacher_kwargs)  # the teacher's name and arguments
+    return config
+
+
+class _Dataset:
+    """Labelled states, at most ``size``; when full, new ones replace old ones at random."""
+
+    def __init__(self, size: int, rng: np.random.Generator) -> None:
+        self.size, self.rng = size, rng
+        self.obs: dict[str, np.ndarray] = {}
+        self.labels = np.zeros((0, 0), dtype=np.float32)
+        self.count = 0  # rows filled
+        self.seen = 0  # rows ever added
+
+    def add(self, obs: dict[str, np.ndarray], labels: np.ndarray) -> None:
+        n = len(labels)
+        if not self.obs:
+            self.obs = {k: np.zeros((self.size, *v.shape[1:]), np.float32) for k, v in obs.items()}
+            self.labels = np.zeros((self.size, labels.shape[1]), dtype=np.float32)
+        free = min(self.size - self.count, n)
+        rows = np.arange(self.count, self.count + free)
+        if free < n:  # reservoir-style: the rest replace random old rows
+            rows = np.concatenate([rows, self.rng.integers(0, self.size, n - free)])
+        for key, value in obs.items():
+            self.obs[key][rows] = value
+        self.labels[rows] = labels
+        self.count += free
+        self.seen += n
+
+    def sample(self, batch: int) -> tuple[dict[str, np.ndarray], np.ndarray]:
+        rows = self.rng.integers(0, self.count, batch)
+        return {k: v[rows] for k, v in self.obs.items()}, self.labels[rows]
+
+
+def dagger(
+    config: DaggerConfig,
+    out_dir: Path | str,
+    *,
+    seed: int = 0,
+    progress: bool = True,
+    torch_threads: int = 1,
+    command: str | None = None,
+) -> Path:
+    """Run DAgger and write the student's model directory (``agents.load`` runs it).
+
+    Parameters
+    ----------
+    config
+        The validated configuration (:func:`load_dagger_config`).
+    out_dir
+        Output directory (created): the model files, ``progress.csv`` (one row per round),
+        ``learning_curve.png``, ``rounds/round_K/`` (the student after round ``K``).
+    seed
+        Seed of the envs, the mixing and the network.
+    progress
+        Show a progress bar over the rounds.
+    torch_threads
+        Threads for torch.
+    command
+        The command line, for the metadata.
+
+    Returns
+    -------
+    pathlib.Path
+        The model directory.
+    """
+    import torch
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.running_mean_std import RunningMeanStd
+    from tqdm.auto import tqdm
+
+    from agents.learned.model_files import save_model_dir
+    from agents.learned.sb3_vec_env import make_vec_env
+
+    torch.set_num_threads(torch_threads)
+    torch.manual_seed(seed)
+    out = Path(out_dir)
+    out.mkdir(parents=True, exist_ok=True)
+    rng = np.random.default_rng(seed)
+    student_env = make_vec_env(config.env_id, 1, seed=seed, monitor=False, **config.env_kwargs)
+    base_space: Any = student_env.observation_space
+    base_keys = list(base_space.spaces)
+    student_space = history_space(config.history, base_space)
+    history = HistoryStack(config.history, config.n_envs)
+    student_env.close()
+    venv = make_vec_env(
+        config.env_id, config.n_envs, seed=seed, monitor=False, **config.env_kwargs, **PRIVILEGED
+    )
+    teacher = make_analytic(config.teacher, **config.teacher_kwargs)
+    model = PPO(
+        "MultiInputPolicy",
+        _spaces_env(student_space, venv.action_space),
+        seed=seed,
+        device="cpu",
+        policy_kwargs={
+            "net_arch": list(config.net_arch),
+            "activation_fn": getattr(torch.nn, ACTIVATIONS[config.activation]),
+            "log_std_init": -1.0,
+            **(
+                {
+                    "features_extractor_class": ErrorScaleExtractor,
+                    "features_extractor_kwargs": {"error_keys": list(config.error_keys)},
+                }
+                if config.error_keys
+                else {}
+            ),
+        },
+    )
+    policy = model.policy
+    actor = [
+        *policy.features_extractor.parameters(),
+        *policy.mlp_extractor.policy_net.parameters(),
+        *policy.action_net.parameters(),
+    ]
+    # an auxiliary head, in training only: the goal's pose in the robot frame, from the
+    # actor's last hidden layer (what the student must infer from the image to act)
+    aux_head = torch.nn.Linear(policy.mlp_extractor.latent_dim_pi, 4)
+    optimiser = torch.optim.Adam([*actor, *aux_head.parameters()], lr=config.learning_rate)
+    rms = {  # the error keys are not normalised: the extractor puts them on a fixed scale
+        k: RunningMeanStd(shape=tuple(student_space.spaces[k].shape or ()))
+        for k in student_space.spaces
+        if error_key_of(k, config.error_keys) is None
+    }
+    clip, eps = 10.0, 1e-8
+    dataset = _Dataset(config.dataset_size, rng)
+
+    def normalise(obs: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+        out = {}
+        for k in student_space.spaces:
+            value = np.asarray(obs[k], dtype=np.float32)
+            if k in rms:
+                value = np.clip((value - rms[k].mean) / np.sqrt(rms[k].var + eps), -clip, clip)
+            out[k] = value.astype(np.float32)
+        return out
+
+    def student_act(obs: dict[str, np.ndarray]) -> np.ndarray:
+        with torch.no_grad():
+            action, _ = policy.predict(normalise(obs), deterministic=True)
+        return np.asarray(action, dtype=np.float32)
+
+    if config.initial_dataset is not None:  # a teacher's recorded episodes (radial-ibvs collect)
+        first_obs, first_labels = dataset_labels(config.initial_dataset, base_keys, config.history)
+        for k, stats in rms.items():
+            stats.update(first_obs[k])
+        dataset.add(first_obs, first_labels)
+    rows: list[dict[str, float]] = []
+    obs: Any = venv.reset()
+    starts = np.ones(config.n_envs, dtype=bool)
+    teacher_state: Any = None
+    student_obs = history.reset({k: obs[k] for k in base_keys})
+    beta = config.beta
+    start_time = time.perf_counter()
+    bar = tqdm(range(config.rounds), desc="DAgger", disable=not progress)
+    for round_index in bar:
+        steps = max(config.steps_per_round // config.n_envs, 1)
+        batch_obs: dict[str, list[np.ndarray]] = {k: [] for k in student_space.spaces}
+        batch_labels: list[np.ndarray] = []
+        teacher_share = 0.0
+        for _ in range(steps):
+            label, teacher_state = teacher.predict(obs, teacher_state, starts)
+            label = np.clip(np.asarray(label, dtype=np.float32), -1.0, 1.0)
+            for k in student_space.spaces:
+                batch_obs[k].append(student_obs[k].astype(np.float32))
+            batch_labels.append(np.concatenate([label, goal_in_robot_frame(obs)], axis=1))
+            if round_index == 0:
+                for k, stats in rms.items():
+                    stats.update(student_obs[k])
+            use_teacher = rng.random(config.n_envs) < beta
+            teacher_share += float(use_teacher.mean())
+            if beta < 1.0:
+                own = student_act(student_obs)
+                action = np.where(use_teacher[:, None], label, own)
+            else:
+                action = label
+            obs, _rewards, dones, _infos = venv.step(action)
+            starts = dones
+            student_obs = history.step({k: obs[k] for k in base_keys}, dones)
+        dataset.add(
+            {k: np.concatenate(v) for k, v in batch_obs.items()}, np.concatenate(batch_labels)
+        )
+        loss = _fit(policy, aux_head, optimiser, dataset, normalise, config, torch)
+        success = _evaluate(config, student_act, base_keys, seed)
+        rows.append(
+            {
+                "round": round_index,
+                "beta": round(beta, 4),
+                "teacher_share": round(teacher_share / steps, 4),
+                "labels": dataset.seen,
+                "env_steps": (round_index + 1) * steps * config.n_envs,
+                "loss": round(loss, 6),
+                "success_rate": success,
+                "wall_s": round(time.perf_counter() - start_time, 1),
+            }
+        )
+        bar.set_postfix(success=f"{success:.2f}", loss=f"{loss:.4f}")
+        _write_progress(out / "progress.csv", rows)
+        vecnorm = _vec_normalize(student_space, venv.action_space, rms, clip, eps)
+        meta = _metadata(config, seed, rows, command)
+        save_model_dir(
+            model, out / "rounds" / f"round_{round_index}", env_id=config.env_id,
+            env_kwargs=config.env_kwargs, normalization=vecnorm, metadata=meta,
+        )  # fmt: skip
+        beta *= config.beta_decay
+    best = max(rows, key=lambda r: (r["success_rate"], r["round"]))
+    final = out / "rounds" / f"round_{int(best['round'])}"
+    for name in ("policy.safetensors", "policy.json", "normalization.npz"):
+        (out / name).write_bytes((final / name).read_bytes())
+    meta = _metadata(config, seed, rows, command) | {"best_round": int(best["round"])}
+    write_json(out / "metadata.json", meta)
+    _plot(rows, out / "learning_curve.png")
+    venv.close()
+    return out
+
+
+def _spaces_env(observation_space: Any, action_space: Any) -> Any:
+    """Return a ``VecEnv`` with just the spaces SB3 needs to build a policy (never stepped)."""
+    import gymnasium as gym
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    class _Spaces(gym.Env):
+        def __init__(self) -> None:
+            self.observation_space, self.action_space = observation_space, action_space
+
+    return DummyVecEnv([_Spaces])
+
+
+def dataset_labels(
+    path: str | Path, keys: list[str], history: HistoryConfig | None
+) -> tuple[dict[str, np.ndarray], np.ndarray]:
+    """Return the student observations and the labels of a teacher's Minari dataset.
+
+    Each episode's observations are stacked as in the rollouts (``history``); the labels are
+    the recorded actions and the auxiliary targets (:func:`goal_in_robot_frame`, from the
+    recorded ``robot_pose`` and ``goal_pose``).
+
+    Raises
+    ------
+    ValueError
+        If the dataset lacks a key the student or the auxiliary targets need (naming it).
+    """
+    from agents.learned.datasets import load_collected
+
+    data = load_collected(path)
+    parts: dict[str, list[np.ndarray]] = {}
+    labels: list[np.ndarray] = []
+    for episode in data.iterate_episodes():
+        recorded = episode.observations
+        missing = sorted({*keys, "robot_pose", "goal_pose"} - set(recorded))
+        if missing:
+            raise ValueError(f"{path}: the dataset's observations lack {missing}")
+        steps = len(episode.actions)
+        stack = HistoryStack(history, 1)
+        for t in range(steps):
+            row = {k: np.asarray(recorded[k][t : t + 1]) for k in keys}
+            stacked = stack.reset(row) if t == 0 else stack.step(row, np.zeros(1, dtype=bool))
+            for k, v in stacked.items():
+                parts.setdefault(k, []).append(v.astype(np.float32))
+        poses = {k: np.asarray(recorded[k][:steps]) for k in ("robot_pose", "goal_pose")}
+        action = np.clip(np.asarray(episode.actions, dtype=np.float32), -1.0, 1.0)
+        labels.append(np.concatenate([action, goal_in_robot_frame(poses)], axis=1))
+    return {k: np.concatenate(v) for k, v in parts.items()}, np.concatenate(labels)
+
+
+def goal_in_robot_frame(obs: Mapping[str, np.ndarray]) -> np.ndarray:
+    """Return the auxiliary targets: the goal in the robot's frame, ``(B, 4)``.
+
+    ``(x / 3 m, y / 3 m, cos e, sin e)``, with ``(x, y)`` the goal position in the robot's
+    frame and ``e`` the heading error, from the privileged ``robot_pose`` and ``goal_pose``.
+    """
+    robot = np.asarray(obs["robot_pose"], dtype=np.float64).reshape(-1, 3)
+    goal = np.asarray(obs["goal_pose"], dtype=np.float64).reshape(-1, 3)
+    dx, dy = goal[:, 0] - robot[:, 0], goal[:, 1] - robot[:, 1]
+    c, s = np.cos(robot[:, 2]), np.sin(robot[:, 2])
+    error = goal[:, 2] - robot[:, 2]
+    out = np.stack(
+        [(c * dx + s * dy) / 3.0, (c * dy - s * dx) / 3.0, np.cos(error), np.sin(error)], 1
+    )
+    return out.astype(np.float32)
+
+
+def _fit(
+    policy: Any,
+    aux_head: Any,
+    optimiser: Any,
+    dataset: _Dataset,
+    normalise: Any,
+    config: DaggerConfig,
+    torch: Any,
+) -> float:
+    """Fit the actor's mean action to the labels; return the mean loss of the last 10 %."""
+    policy.set_training_mode(True)
+    losses = []
+    for _ in range(config.updates_per_round):
+        obs, labels = dataset.sample(config.batch_size)
+        tensors = {k: torch.as_tensor(v) for k, v in normalise(obs).items()}
+        features = policy.extract_features(tensors, policy.pi_features_extractor)
+        latent = policy.mlp_extractor.forward_actor(features)
+        targets = torch.as_tensor(labels)
+        loss = torch.mean((policy.action_net(latent) - targets[:, :2]) ** 2)
+        if config.aux_weight > 0:
+            aux = torch.mean((aux_head(latent) - targets[:, 2:]) ** 2)
+            loss = loss + config.aux_weight * aux
+        optimiser.zero_grad()
+        loss.backward()
+        optimiser.step()
+        losses.append(loss.item())
+    policy.set_training_mode(False)
+    tail = losses[-max(len(losses) // 10, 1) :]
+    return float(np.mean(tail))
+
+
+def _evaluate(config: DaggerConfig, act: Any, base_keys: list[str], seed: int) -> float:
+    """Success rate of ``act`` over the held-out episodes (each robot's first episode)."""
+    from agents.learned.sb3_vec_env import make_vec_env
+
+    n = config.eval_episodes
+    venv = make_vec_env(config.env_id, n, seed=config.eval_seed, monitor=False, **config.env_kwargs)
+    stack = HistoryStack(config.history, n)
+    first: Any = venv.reset()
+    obs = stack.reset({k: v for k, v in first.items() if k in base_keys})
+    done = np.zeros(n, dtype=bool)
+    success = np.zeros(n, dtype=bool)
+    while not done.all():
+        step_obs: Any
+        step_obs, _r, dones, infos = venv.step(act(obs))
+        for i in np.flatnonzero(dones & ~done):
+            success[i] = bool(infos[i].get("is_success", False))
+        done |= dones
+        obs = stack.step({k: v for k, v in step_obs.items() if k in base_keys}, dones)
+    venv.close()
+    return float(success.mean())
+
+
+def _vec_normalize(
+    space: Any, action_space: Any, rms: dict[str, Any], clip: float, eps: float
+) -> Any:
+    """Return a ``VecNormalize`` holding the DAgger statistics (``save_normalization`` input)."""
+    from stable_baselines3.common.vec_env import VecNormalize
+
+    venv = VecNormalize(
+        _spaces_env(space, action_space),
+        norm_obs=True,
+        norm_obs_keys=list(rms),
+        norm_reward=False,
+        clip_obs=clip,
+        epsilon=eps,
+    )
+    venv.obs_rms = rms
+    return venv
+
+
+def _metadata(
+    config: DaggerConfig, seed: int, rows: list[dict[str, float]], command: str | None
+) -> dict[str, Any]:
+    import sys
+
+    from agents.learned.training import _git_revision, _jsonable
+
+    return {
+        "trained_by": "dagger",
+        "teacher": config.teacher,
+        "teacher_kwargs": _jsonable(config.teacher_kwargs),
+        **({"history": config.history.as_dict()} if config.history else {}),
+        "seed": seed,
+        "total_timesteps": int(rows[-1]["env_steps"]) if rows else 0,
+        "command": command or " ".join(sys.argv),
+        "config": _jsonable(config.source),
+        "git_revision": _git_revision(),
+        "wall_clock_s": rows[-1]["wall_s"] if rows else 0.0,
+        "learning_curve": [
+            {"timesteps": r["env_steps"], "success_rate": r["success_rate"]} for r in rows
+        ],
+    }
+
+
+def _write_progress(path: Path, rows: list[dict[str, float]]) -> None:
+    with path.open("w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=list(rows[0]))
+        writer.writeheader()
+        writer.writerows(rows)
+
+
+def _plot(rows: list[dict[str, float]], path: Path) -> None:
+    from agents.plotting import pyplot, save_figure
+
+    plt = pyplot()
+    fig, ax = plt.subplots(figsize=(6, 3.5))
+    ax.plot([r["env_steps"] / 1e6 for r in rows], [r["success_rate"] for r in rows], marker="o")
+    ax.set_xlabel("env steps (millions)")
+    ax.set_ylabel("held-out success rate")
+    ax.set_ylim(0, 1.02)
+    ax.set_title("DAgger: the student after each round")
+    ax.grid(alpha=0.3)
+    fig.tight_layout()
+    save_figure(fig, path)

@@ -1,0 +1,185 @@
+"""DAgger (agents.learned.distill), the observation history and the error-scale extractor."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+import torch
+from gymnasium import spaces
+
+from agents import load
+from agents.analytic import make_analytic
+from agents.learned.distill import dagger, goal_in_robot_frame, load_dagger_config
+from agents.learned.extractors import ErrorScaleExtractor
+from agents.learned.history import HistoryConfig, HistoryStack, history_key, history_space
+from agents.learned.sb3_vec_env import make_vec_env
+
+ENV = {
+    "scenario": "random", "physics": "kinematic", "obs_mode": "features", "goal_depths": True,
+    "max_landmarks": 16,
+}  # fmt: skip
+
+SMALL = f"""
+dagger:
+  env_kwargs: {json.dumps(ENV)}
+  teacher_kwargs:
+    {{goal_tolerance: 0.01, waypoint_tolerance: 0.1, hold_radius: 0.0, drive_gate: 0.35}}
+  n_envs: 16
+  rounds: 2
+  steps_per_round: 1024
+  updates_per_round: 20
+  batch_size: 128
+  dataset_size: 5000
+  history: {{frames: 3}}
+  eval_episodes: 4
+"""
+
+
+def test_history_stack_shifts_and_restarts():
+    config = HistoryConfig(frames=3, keys=("a",))
+    stack = HistoryStack(config, 2)
+    first = stack.reset({"a": np.array([[1.0], [10.0]]), "b": np.zeros((2, 1))})
+    np.testing.assert_array_equal(first[history_key("a", 1)], [[1.0], [10.0]])  # filled
+    second = stack.step({"a": np.array([[2.0], [20.0]])}, np.array([False, False]))
+    np.testing.assert_array_equal(second[history_key("a", 1)], [[1.0], [10.0]])
+    np.testing.assert_array_equal(second[history_key("a", 2)], [[1.0], [10.0]])
+    third = stack.step({"a": np.array([[3.0], [30.0]])}, np.array([False, True]))
+    np.testing.assert_array_equal(third[history_key("a", 1)], [[2.0], [30.0]])  # env 1 anew
+    np.testing.assert_array_equal(third[history_key("a", 2)], [[1.0], [30.0]])
+    assert "b" in first and history_key("b", 1) not in first
+
+
+def test_history_space_names_a_missing_key():
+    space = spaces.Dict({"points": spaces.Box(-1, 1, (4,))})
+    assert set(history_space(HistoryConfig(2, ("points",)), space).spaces) == {
+        "points", "points@-1"
+    }  # fmt: skip
+    with pytest.raises(ValueError, match="c_error"):
+        history_space(HistoryConfig(2, ("c_error",)), space)
+    with pytest.raises(ValueError, match="frames"):
+        HistoryConfig.from_mapping({"frames": 1}, "history")
+
+
+def test_error_scale_extractor_is_scale_invariant_in_direction():
+    space = spaces.Dict(
+        {
+            "c_error": spaces.Box(-2, 2, (6,)),
+            "alpha_m_error": spaces.Box(-4, 4, (1,)),
+            "points": spaces.Box(-1, 1, (4,)),
+        }
+    )
+    extractor = ErrorScaleExtractor(space)
+    assert extractor.features_dim == 7 + 2 + 4
+    e = torch.tensor([[0.3, -0.1, 0.0, 0.2, 0.05, -0.4]])
+    obs = {"alpha_m_error": torch.tensor([[0.01]]), "c_error": e, "points": torch.zeros(1, 4)}
+    small = {**obs, "c_error": e * 1e-2}
+    big, tiny = extractor(obs), extractor(small)
+    # keys in the Dict's order: alpha_m_error (value, soft sign), c_error (6 + 1), points (4)
+    np.testing.assert_allclose(big[0, :2], [0.01, 0.01 / (0.01 + 1e-3)], rtol=1e-5)
+    # the direction keeps its size near the goal (to eps), the log-size tells how far
+    np.testing.assert_allclose(big[0, 2:8], tiny[0, 2:8], atol=0.2)
+    assert float(big[0, 8]) - float(tiny[0, 8]) > 3.0
+    np.testing.assert_array_equal(big[0, 9:], 0.0)
+
+
+def test_goal_in_robot_frame():
+    obs = {"robot_pose": np.array([[1.0, 1.0, np.pi / 2]]), "goal_pose": np.array([[1, 4, 0.0]])}
+    np.testing.assert_allclose(goal_in_robot_frame(obs), [[1.0, 0.0, 0.0, -1.0]], atol=1e-7)
+
+
+def test_drive_gate_teacher_still_parks():
+    """The teacher's labels (turn and drive together) park every one of 32 held-out rooms."""
+    teacher = make_analytic(
+        "planner", goal_tolerance=0.01, waypoint_tolerance=0.1, hold_radius=0.0, drive_gate=0.35
+    )
+    n = 32
+    venv = make_vec_env(
+        "RadialIBVS/Parking-v0", n, seed=10_000, monitor=False, privileged=True,
+        privileged_map=True, **ENV,
+    )  # fmt: skip
+    obs, state, starts = venv.reset(), None, np.ones(n, dtype=bool)
+    done, success = np.zeros(n, dtype=bool), np.zeros(n, dtype=bool)
+    while not done.all():
+        action, state = teacher.predict(obs, state, starts)
+        obs, _, starts, infos = venv.step(action)
+        for i in np.flatnonzero(starts & ~done):
+            success[i] = infos[i]["is_success"]
+        done |= starts
+    assert success.all()
+
+
+@pytest.fixture(scope="module")
+def student(tmp_path_factory):
+    path = tmp_path_factory.mktemp("dagger") / "config.yaml"
+    path.write_text(SMALL)
+    config = load_dagger_config(path)
+    out = dagger(config, path.parent / "student", seed=3, progress=False)
+    return config, out
+
+
+def test_dagger_writes_a_model_agents_load_runs(student):
+    config, out = student
+    rows = (out / "progress.csv").read_text().splitlines()
+    assert len(rows) == 1 + config.rounds
+    assert (out / "learning_curve.png").stat().st_size > 0
+    policy = load(out)
+    assert type(policy).__name__ == "HistoryPolicy"
+    meta = policy.metadata
+    assert meta["trained_by"] == "dagger" and meta["teacher"] == "planner"
+    assert "residual" not in meta  # no analytic policy inside at deployment
+    import gymnasium as gym
+
+    env = gym.make("RadialIBVS/Parking-v0", **ENV)
+    policy.check_observation_space(env.observation_space)
+    obs, _ = env.reset(seed=1)
+    state = None
+    for step in range(5):
+        action, state = policy.predict(obs, state, np.array([step == 0]))
+        assert env.action_space.contains(action)
+        obs, *_ = env.step(action)
+    assert set(state) == set(config.history.keys)
+
+
+def test_history_policy_sees_what_training_saw(student):
+    """Step by step with its state, the loaded policy acts as on the training-side stack."""
+    config, out = student
+    policy = load(out)
+    n = 3
+    venv = make_vec_env("RadialIBVS/Parking-v0", n, seed=7, monitor=False, **ENV)
+    stack = HistoryStack(config.history, n)
+    obs = venv.reset()
+    stacked = stack.reset(obs)
+    state, starts = None, np.ones(n, dtype=bool)
+    for _ in range(12):
+        action, state = policy.predict(obs, state, starts)
+        direct, _ = policy.learned.predict(stacked)
+        np.testing.assert_array_equal(action, direct)
+        obs, _, starts, _ = venv.step(action)
+        stacked = stack.step(obs, starts)
+
+
+def test_dagger_is_deterministic_under_a_seed(student, tmp_path):
+    config, out = student
+    again = dagger(config, tmp_path / "again", seed=3, progress=False)
+    assert (again / "policy.safetensors").read_bytes() == (out / "policy.safetensors").read_bytes()
+    assert (again / "normalization.npz").read_bytes() == (out / "normalization.npz").read_bytes()
+
+
+@pytest.mark.parametrize(
+    ("line", "match"),
+    [
+        ("  rounds: 0", "rounds"),
+        ("  beta: 1.5", "beta"),
+        ("  teacher: teleport", "teleport"),
+        ("  net_arch: [64, -1]", "net_arch"),
+        ("  rouns: 3", "rouns"),
+        ("  aux_weight: -1", "aux_weight"),
+    ],
+)
+def test_config_errors_name_the_key(tmp_path, line, match):
+    path = tmp_path / "bad.yaml"
+    path.write_text(SMALL + line + "\n")
+    with pytest.raises(ValueError, match=match):
+        load_dagger_config(path)

@@ -1,0 +1,143 @@
+"""``RadialIBVS/ParkingGoal-v1``: the step reward is ``compute_reward`` (GoalEnv rule), slots."""
+
+from __future__ import annotations
+
+import warnings
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import radial_ibvs_gym  # noqa: F401  (registers the envs)
+from agents.learned.sb3_vec_env import make_vec_env
+
+KW = {"scenario": "random", "physics": "kinematic"}
+#: narrow rooms, every landmark needed, driving on after a collision: random actions collide
+#: (about 900 steps in 5,000) and lose landmarks (about 13 episodes in 40)
+HARSH = {
+    "max_landmarks": 12, "min_visible": 8, "min_visible_at_goal": 8,
+    "terminate_on_collision": False, "random_room": {"width": [3.0, 4.0], "depth": [3.0, 4.0]},
+}  # fmt: skip
+
+
+def _rollouts(env: gym.Env, episodes: int, seed: int) -> tuple[list, list, list, list]:
+    """Random-action episodes: (achieved, desired, info, reward) of every step."""
+    achieved, desired, infos, rewards = [], [], [], []
+    env.action_space.seed(seed)
+    for episode in range(episodes):
+        env.reset(seed=seed + episode)
+        done = False
+        while not done:
+            obs, reward, terminated, truncated, info = env.step(env.action_space.sample())
+            achieved.append(obs["achieved_goal"])
+            desired.append(obs["desired_goal"])
+            infos.append(info)
+            rewards.append(reward)
+            done = terminated or truncated
+    return achieved, desired, infos, rewards
+
+
+@pytest.fixture(scope="module")
+def steps():
+    env = gym.make("RadialIBVS/ParkingGoal-v1", max_episode_steps=150, **HARSH, **KW)
+    return env.unwrapped, _rollouts(env, 40, seed=0)
+
+
+def test_step_reward_is_compute_reward_one_by_one_and_batched(steps):
+    env, (achieved, desired, infos, rewards) = steps
+    assert sum(i["collision"] for i in infos) >= 3  # the events the v0 reward left out
+    assert sum(i["lost"] for i in infos) >= 3
+    for a, d, info, reward in zip(achieved, desired, infos, rewards, strict=True):
+        assert reward == float(env.compute_reward(a, d, info))
+        assert reward == sum(info["reward_terms"].values())
+    batched = env.compute_reward(np.stack(achieved), np.stack(desired), np.array(infos))
+    np.testing.assert_array_equal(batched, np.array(rewards))
+
+
+def test_relabelled_goals_keep_the_penalties(steps):
+    env, (achieved, _, infos, _) = steps
+    crash = next(i for i, info in enumerate(infos) if info["collision"])
+    other_goal = achieved[crash]  # HER: the goal relabelled to what was achieved
+    with_crash = env.compute_reward(achieved[crash], other_goal, infos[crash])
+    without = env.compute_reward(achieved[crash], other_goal, {"collision": False, "lost": False})
+    assert with_crash == pytest.approx(without - env.weights["collision_penalty"])
+    assert without == env.weights["success_bonus"]  # the relabelled goal is reached exactly
+
+
+def test_her_calls_reach_the_penalties_through_the_vector_env(steps):
+    """HER's call, ``env_method("compute_reward", achieved, desired, infos)``, on SB3's VecEnv."""
+    env, (achieved, desired, infos, rewards) = steps
+    venv = make_vec_env("RadialIBVS/ParkingGoal-v1", 2, seed=0, **HARSH, **KW)
+    (batched,) = venv.env_method(
+        "compute_reward", np.stack(achieved), np.stack(desired), np.array(infos), indices=[0]
+    )
+    np.testing.assert_array_equal(batched, np.array(rewards))
+    relabelled = venv.env_method(
+        "compute_reward", np.stack(achieved), np.stack(achieved), np.array(infos), indices=[0]
+    )[0]
+    crashes = np.array([i["collision"] for i in infos])
+    w = env.weights
+    lost = np.array([i["lost"] for i in infos])
+    expected = w["success_bonus"] - w["collision_penalty"] - w["lost_penalty"] * lost[crashes]
+    np.testing.assert_allclose(relabelled[crashes], expected)
+
+
+def test_max_landmarks_slots_and_spaces():
+    env = gym.make("RadialIBVS/ParkingGoal-v1", max_landmarks=16, **KW)
+    obs, _ = env.reset(seed=3)
+    assert env.observation_space["observation"].shape == (48,)
+    assert env.observation_space["achieved_goal"].shape == (32,)
+    assert env.observation_space.contains(obs)
+    np.testing.assert_array_equal(obs["desired_goal"][16:], 0.0)  # 8 landmarks in 16 slots
+    with pytest.raises(ValueError, match="max_landmarks"):
+        gym.make("RadialIBVS/ParkingGoal-v1", max_landmarks=4, **KW)
+
+
+def test_native_vector_env_equals_sync():
+    kw = {**HARSH, **KW}
+    native, sync = (
+        gym.make_vec("RadialIBVS/ParkingGoal-v1", 3, vectorization_mode=mode, **kw)
+        for mode in ("vector_entry_point", "sync")
+    )
+    a, _ = native.reset(seed=5)
+    b, _ = sync.reset(seed=5)
+    rng = np.random.default_rng(0)
+    resetting = np.zeros(3, dtype=bool)  # next-step autoreset: these rows reset, reward 0
+    for _ in range(80):
+        action = rng.uniform(-1, 1, (3, 2)).astype(np.float32)
+        a, ra, ta, tra, ia = native.step(action)
+        b, rb, tb, _, ib = sync.step(action)
+        for key in a:
+            np.testing.assert_allclose(a[key], b[key], atol=1e-6)
+        np.testing.assert_allclose(ra, rb, atol=1e-6)
+        np.testing.assert_array_equal(ta, tb)
+        np.testing.assert_array_equal(ia["lost"], ib["lost"])
+        # each stepped robot's reward is compute_reward of its row
+        rewards = native.unwrapped.compute_reward(a["achieved_goal"], a["desired_goal"], ia)
+        np.testing.assert_allclose(ra[~resetting], rewards[~resetting], atol=1e-12)
+        resetting = ta | tra
+
+
+def test_v0_warns_and_keeps_its_reward():
+    with pytest.warns(DeprecationWarning, match="ParkingGoal-v1"):
+        env = gym.make("RadialIBVS/ParkingGoal-v0", **KW)
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        gym.make("RadialIBVS/ParkingGoal-v1", **KW)  # the new version does not warn
+    env.reset(seed=0)
+    _, reward, *_, info = env.step(np.zeros(2, dtype=np.float32))
+    assert "image_distance" in info["reward_terms"]
+    assert reward == pytest.approx(sum(info["reward_terms"].values()))
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"goal_reward_power": 0.0}, "goal_reward_power"),
+        ({"goal_image_tolerance": float("nan")}, "goal_image_tolerance"),
+        ({"obs_mode": "features"}, "obs_mode='points' only"),
+    ],
+)
+def test_bad_arguments_are_named(kwargs, match):
+    with pytest.raises(ValueError, match=match):
+        gym.make("RadialIBVS/ParkingGoal-v1", **KW, **kwargs)
