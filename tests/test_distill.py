@@ -25,7 +25,8 @@ SMALL = f"""
 dagger:
   env_kwargs: {json.dumps(ENV)}
   teacher_kwargs:
-    {{goal_tolerance: 0.01, waypoint_tolerance: 0.1, hold_radius: 0.0, drive_gate: 0.35}}
+    {{goal_tolerance: 0.01, waypoint_tolerance: 0.1, hold_radius: 0.0, drive_gate: 0.35,
+      reverse: false}}
   n_envs: 16
   rounds: 2
   steps_per_round: 1024
@@ -89,11 +90,12 @@ def test_goal_in_robot_frame():
     np.testing.assert_allclose(goal_in_robot_frame(obs), [[1.0, 0.0, 0.0, -1.0]], atol=1e-7)
 
 
-def test_drive_gate_teacher_still_parks():
-    """The teacher's labels (turn and drive together) park every one of 32 held-out rooms."""
+def test_the_teachers_labels_still_park():
+    """The teacher's settings (turn and drive together, forwards only) park 32 of 32 rooms."""
     teacher = make_analytic(
-        "planner", goal_tolerance=0.01, waypoint_tolerance=0.1, hold_radius=0.0, drive_gate=0.35
-    )
+        "planner", goal_tolerance=0.01, waypoint_tolerance=0.1, hold_radius=0.0,
+        drive_gate=0.35, reverse=False,
+    )  # fmt: skip
     n = 32
     venv = make_vec_env(
         "RadialIBVS/Parking-v0", n, seed=10_000, monitor=False, privileged=True,
@@ -103,6 +105,7 @@ def test_drive_gate_teacher_still_parks():
     done, success = np.zeros(n, dtype=bool), np.zeros(n, dtype=bool)
     while not done.all():
         action, state = teacher.predict(obs, state, starts)
+        assert (action[:, 0] >= 0).all()  # forwards only
         obs, _, starts, infos = venv.step(action)
         for i in np.flatnonzero(starts & ~done):
             success[i] = infos[i]["is_success"]
@@ -183,3 +186,51 @@ def test_config_errors_name_the_key(tmp_path, line, match):
     path.write_text(SMALL + line + "\n")
     with pytest.raises(ValueError, match=match):
         load_dagger_config(path)
+
+
+def test_ppo_fine_tuning_starts_from_the_student(student, tmp_path):
+    """train(init_from=DIR) takes the student's architecture, weights, history, statistics."""
+    from agents.learned.training import train
+    from agents.learned.zoo_config import load_train_config
+
+    _, out = student
+    config_path = tmp_path / "ppo.yaml"
+    config_path.write_text(
+        "RadialIBVS/Parking-v0:\n  n_envs: 4\n  policy: MultiInputPolicy\n"
+        '  normalize: "dict(norm_obs=True, norm_reward=True, gamma=0.99)"\n'
+        "  n_steps: 16\n  batch_size: 32\n  n_epochs: 1\n  learning_rate: 0.0\n"
+        f"radial_ibvs_gym:\n  env_kwargs: {json.dumps(ENV)}\n  eval_freq: 1000000\n"
+        "  eval_episodes: 1\n"
+    )
+    tuned_dir = train(
+        load_train_config(config_path), tmp_path / "tuned", total_timesteps=64,
+        init_from=out, progress=False,
+    )  # fmt: skip
+    tuned, original = load(tuned_dir), load(out)
+    assert type(tuned).__name__ == "HistoryPolicy"  # the history came along
+    assert tuned.metadata["init_from"] == str(out)
+    venv = make_vec_env("RadialIBVS/Parking-v0", 3, seed=11, monitor=False, **ENV)
+    obs, state_a, state_b = venv.reset(), None, None
+    starts = np.ones(3, dtype=bool)
+    for _ in range(6):  # learning rate 0: the same weights; the statistics moved a little
+        a, state_a = tuned.predict(obs, state_a, starts)  # (256 more samples in them)
+        b, state_b = original.predict(obs, state_b, starts)
+        np.testing.assert_allclose(a, b, atol=0.03)
+        assert np.abs(b).max() > 0.3  # not a fresh network's near-zero actions
+        obs, _, starts, _ = venv.step(a)
+
+
+def test_every_shipped_agent_config_loads():
+    """Each configs/agents file validates: DAgger files as DAgger, the others as rl-zoo3."""
+    from pathlib import Path
+
+    from agents.learned.zoo_config import load_train_config
+
+    files = sorted((Path(__file__).resolve().parents[1] / "configs" / "agents").glob("*.yaml"))
+    assert any(p.name == "dagger_planner.yaml" for p in files)
+    for path in files:
+        if path.name.startswith("dagger"):
+            config = load_dagger_config(path)
+            assert config.teacher == "planner"
+        else:
+            load_train_config(path)

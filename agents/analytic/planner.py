@@ -209,6 +209,12 @@ class MapPlanner:
         drive. ``> 0``: drive and turn together, the speed faded linearly from full at zero
         heading error to zero at ``drive_gate`` radians, so the command is a continuous
         function of the pose (what a student can learn: :mod:`agents.learned.distill`).
+    reverse
+        ``True`` (the default): drive forwards or backwards, whichever needs less turning.
+        ``False``: forwards only. A teacher (:mod:`agents.learned.distill`) uses ``False``:
+        with reversing, the turn's sign flips where the waypoint is abeam (90 deg), exactly
+        where a student that drove past the goal ends up, and a student that averages the
+        two labels there stands still.
     hold_radius
         Within this distance of a waypoint the follower holds its heading and only drives
         along it (the bearing is sensitive to millimetres there), metres. A teacher labelling
@@ -233,6 +239,7 @@ class MapPlanner:
         min_visible: int = 3,
         hold_radius: float = 0.03,
         drive_gate: float = 0.0,
+        reverse: bool = True,
     ) -> None:
         _import_ompl()
         if isinstance(min_visible, bool) or not isinstance(min_visible, int) or min_visible < 0:
@@ -260,6 +267,7 @@ class MapPlanner:
         self.time_limit_s = float(time_limit_s)
         self.hold_radius = float(hold_radius)
         self.drive_gate = float(drive_gate)
+        self.reverse = bool(reverse)
         self.radius = 0.5 * math.hypot(self.robot.length, self.robot.width) + self.margin
 
     env_kwargs: dict[str, bool] = {"privileged": True, "privileged_map": True}  # noqa: RUF012
@@ -351,7 +359,8 @@ class MapPlanner:
             return np.array([0.0, omega / w_max])
         bearing = math.atan2(dy, dx)
         forward, backward = _wrap(bearing - yaw), _wrap(bearing + math.pi - yaw)
-        direction, error = (1.0, forward) if abs(forward) <= abs(backward) else (-1.0, backward)
+        backwards = self.reverse and abs(backward) < abs(forward)
+        direction, error = (-1.0, backward) if backwards else (1.0, forward)
         along = distance * math.cos(error)
         if distance < self.hold_radius:  # close: the bearing is sensitive to mm; hold heading
             speed = self._ramp(abs(along), v_max, robot.max_linear_accel)

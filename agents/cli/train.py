@@ -37,6 +37,12 @@ def add_parser(sub: Any) -> None:
         "its weights and optimizer state (tensors only) and normalization.npz; no pickle is read",
     )
     parser.add_argument(
+        "--init-from",
+        type=Path,
+        help="model directory to fine-tune (e.g. a DAgger student from radial-ibvs distill): "
+        "its architecture, weights, history and normalisation; PPO only",
+    )
+    parser.add_argument(
         "--env-kwarg", action="append", default=[], metavar="KEY=VALUE", help="override"
     )
     parser.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -61,6 +67,7 @@ def run(args: argparse.Namespace) -> int:
         seed=args.seed,
         total_timesteps=args.total_timesteps,
         resume=args.resume,
+        init_from=args.init_from,
         progress=not args.no_progress,
         command="radial-ibvs " + " ".join(args.argv),
     )

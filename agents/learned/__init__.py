@@ -8,6 +8,10 @@
   batched envs.
 - :mod:`~agents.learned.residual`: a learned correction on top of an analytic policy.
 - :mod:`~agents.learned.curriculum`: the reverse curriculum of the start states.
+- :mod:`~agents.learned.distill`: ``radial-ibvs distill``, DAgger from the planner to an
+  image-only student; :mod:`~agents.learned.history` (the last frames, for training and in
+  the deployed policy's ``state``), :mod:`~agents.learned.extractors` (errors as direction
+  and log-size), :mod:`~agents.learned.datasets` (reading Minari datasets).
 
 Importing this package loads neither torch nor stable-baselines3: the modules that need them
 import them when they are used (:func:`make_vec_env` on first access). It may import

@@ -32,7 +32,7 @@ import numpy as np
 
 from agents.analytic import make_analytic
 from agents.io import write_json
-from agents.learned.extractors import ERROR_KEYS, ErrorScaleExtractor, error_key_of
+from agents.learned.extractors import ERROR_KEYS, ErrorScaleExtractor, error_key_of, raw_keys
 from agents.learned.history import HistoryConfig, HistoryStack, history_space
 from radial_ibvs_gym.config import read_yaml
 
@@ -82,6 +82,8 @@ class DaggerConfig:
     initial_dataset
         A Minari dataset of the teacher's episodes (``radial-ibvs collect --policy planner``,
         its directory): its states and actions join the labels before the first round.
+    point_error
+        Give the network the image error ``x_n - x_n*`` too, as direction and log-size.
     aux_weight
         Weight of the auxiliary loss (the goal's pose in the robot frame, predicted from the
         actor's last hidden layer by a head used in training only; 0: none).
@@ -106,6 +108,7 @@ class DaggerConfig:
     activation: str = "relu"
     history: HistoryConfig | None = None
     error_keys: tuple[str, ...] = ERROR_KEYS
+    point_error: bool = True
     aux_weight: float = 1.0
     initial_dataset: str | None = None
     eval_episodes: int = 100
@@ -150,6 +153,12 @@ def load_dagger_config(path: Path | str) -> DaggerConfig:
             if not isinstance(value, int | float) or not low <= value <= high:
                 raise ValueError(f"{where}.{key} must be in [{low}, {high}], got {value!r}")
             values[key] = float(value)
+    if "point_error" in section:
+        if not isinstance(section["point_error"], bool):
+            raise ValueError(
+                f"{where}.point_error must be true or false, got {section['point_error']!r}"
+            )
+        values["point_error"] = section["point_error"]
     if "aux_weight" in section:
         value = section["aux_weight"]
         if not isinstance(value, int | float) or not (math.isfinite(value) and value >= 0):
@@ -291,9 +300,12 @@ def dagger(
             **(
                 {
                     "features_extractor_class": ErrorScaleExtractor,
-                    "features_extractor_kwargs": {"error_keys": list(config.error_keys)},
+                    "features_extractor_kwargs": {
+                        "error_keys": list(config.error_keys),
+                        "point_error": config.point_error,
+                    },
                 }
-                if config.error_keys
+                if config.error_keys or config.point_error
                 else {}
             ),
         },
@@ -308,10 +320,11 @@ def dagger(
     # actor's last hidden layer (what the student must infer from the image to act)
     aux_head = torch.nn.Linear(policy.mlp_extractor.latent_dim_pi, 4)
     optimiser = torch.optim.Adam([*actor, *aux_head.parameters()], lr=config.learning_rate)
-    rms = {  # the error keys are not normalised: the extractor puts them on a fixed scale
+    raw = raw_keys(config.error_keys, config.point_error)  # the extractor reads them raw
+    rms = {
         k: RunningMeanStd(shape=tuple(student_space.spaces[k].shape or ()))
         for k in student_space.spaces
-        if error_key_of(k, config.error_keys) is None
+        if k not in raw and error_key_of(k, config.error_keys) is None
     }
     clip, eps = 10.0, 1e-8
     dataset = _Dataset(config.dataset_size, rng)

@@ -10,8 +10,12 @@ network the same view, :class:`ErrorScaleExtractor` feeds each error vector ``e`
     e / (|e| + eps),   log(|e| + eps)
 
 and each scalar error ``a`` as ``a`` and ``a / (|a| + eps)`` (a soft sign, sharp near zero).
-Every other key is flattened as stable-baselines3's ``CombinedExtractor`` does. The error keys
-should not be normalised beforehand (they are already on a fixed scale).
+With ``point_error`` it adds the image error ``x_n - x_n*`` of the landmarks seen now and in
+the goal image, the same way: its direction is in the robot's frame, so near the goal it tells
+which way to turn and drive whatever the distance (what the IBVS reads through its
+interaction matrices). Every other key is flattened as stable-baselines3's
+``CombinedExtractor`` does. The keys it reads raw (:func:`raw_keys`) should not be
+normalised beforehand: they are on fixed scales already.
 """
 
 from __future__ import annotations
@@ -21,10 +25,19 @@ import torch
 from gymnasium import spaces
 from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
 
-__all__ = ["ERROR_KEYS", "ErrorScaleExtractor", "error_key_of"]
+__all__ = ["ERROR_KEYS", "POINT_KEYS", "ErrorScaleExtractor", "error_key_of", "raw_keys"]
 
 #: the observation keys treated as errors by default (the features observation)
 ERROR_KEYS = ("c_error", "alpha_m_error")
+
+
+#: the keys the image error is computed from
+POINT_KEYS = ("points", "goal_points", "visible")
+
+
+def raw_keys(error_keys: tuple[str, ...], point_error: bool) -> tuple[str, ...]:
+    """Return the base keys :class:`ErrorScaleExtractor` reads raw (not to be normalised)."""
+    return (*error_keys, *(POINT_KEYS if point_error else ()))
 
 
 def error_key_of(key: str, error_keys: tuple[str, ...]) -> str | None:
@@ -44,6 +57,8 @@ class ErrorScaleExtractor(BaseFeaturesExtractor):
         The error keys (and their histories) to transform.
     eps
         The size below which an error counts as zero (its unit: the observation's).
+    point_error
+        Add the image error ``x_n - x_n*`` (needs ``points``, ``goal_points``, ``visible``).
     """
 
     def __init__(
@@ -51,10 +66,17 @@ class ErrorScaleExtractor(BaseFeaturesExtractor):
         observation_space: spaces.Dict,
         error_keys: tuple[str, ...] | list[str] = ERROR_KEYS,
         eps: float = 1e-3,
+        point_error: bool = False,
     ) -> None:
         self.error_keys = tuple(error_keys)
         self.eps = float(eps)
+        self.point_error = bool(point_error)
         size = 0
+        if self.point_error:
+            missing = sorted(set(POINT_KEYS) - set(observation_space.spaces))
+            if missing:
+                raise ValueError(f"point_error needs the observation keys {missing}")
+            size += int(np.prod(observation_space.spaces["points"].shape or ())) + 1
         for key, space in observation_space.spaces.items():
             n = int(np.prod(space.shape or ()))
             if error_key_of(key, self.error_keys) is None:
@@ -67,6 +89,14 @@ class ErrorScaleExtractor(BaseFeaturesExtractor):
     def forward(self, observations: dict[str, torch.Tensor]) -> torch.Tensor:
         """Return the ``(B, features_dim)`` features."""
         parts: list[torch.Tensor] = []
+        if self.point_error:
+            now = observations["points"].float().flatten(start_dim=1)
+            goal = observations["goal_points"].float().flatten(start_dim=1)
+            b = now.shape[0]
+            seen = (goal.reshape(b, -1, 2).norm(dim=2) > 0.5) & (observations["visible"] > 0.5)
+            error = ((now - goal).reshape(b, -1, 2) * seen[..., None]).reshape(b, -1)
+            size = torch.linalg.vector_norm(error, dim=1, keepdim=True)
+            parts += [error / (size + self.eps), torch.log(size + self.eps)]
         for key in self._keys:
             value = observations[key].float().flatten(start_dim=1)
             if error_key_of(key, self.error_keys) is None:
@@ -80,4 +110,4 @@ class ErrorScaleExtractor(BaseFeaturesExtractor):
 
     def extra_repr(self) -> str:
         """Return the settings, for ``print(policy)``."""
-        return f"error_keys={self.error_keys}, eps={self.eps}"
+        return f"error_keys={self.error_keys}, eps={self.eps}, point_error={self.point_error}"

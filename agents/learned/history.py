@@ -19,7 +19,14 @@ from typing import Any
 import numpy as np
 from gymnasium import spaces
 
-__all__ = ["HistoryConfig", "HistoryPolicy", "HistoryStack", "history_key", "history_space"]
+__all__ = [
+    "HistoryConfig",
+    "HistoryPolicy",
+    "HistoryStack",
+    "history_key",
+    "history_space",
+    "history_vec_env",
+]
 
 #: the keys stacked by default: what changes from step to step in the features observation
 DEFAULT_KEYS = ("points", "visible", "c_error", "alpha_m_error")
@@ -122,6 +129,21 @@ class HistoryStack:
             self._past[key] = np.concatenate([now[None], past[:-1]])  # shift: now becomes @-1
         return out
 
+    def peek(self, obs: Mapping[str, np.ndarray], i: int) -> dict[str, np.ndarray]:
+        """Return robot ``i``'s stacked observation for ``obs`` (its row) without pushing it.
+
+        For the last observation of an episode (SB3's ``terminal_observation``): the frames
+        before it are that episode's.
+        """
+        out = {k: np.asarray(v) for k, v in obs.items()}
+        if self.config is None:
+            return out
+        for key in self.config.keys:
+            past = self._past.get(key)
+            for lag in range(1, self.config.frames):
+                out[history_key(key, lag)] = out[key] if past is None else past[lag - 1][i : i + 1]
+        return out
+
     def state(self) -> dict[str, np.ndarray]:
         """Return the history kept (for :class:`HistoryPolicy`'s ``state``)."""
         return {k: v.copy() for k, v in self._past.items()}
@@ -186,3 +208,35 @@ class HistoryPolicy:
         action, _ = self.learned.predict(stacked, None, None, deterministic)
         action = np.asarray(action, dtype=np.float32)
         return (action[0] if single else action), stack.state()
+
+
+def history_vec_env(venv: Any, config: HistoryConfig) -> Any:
+    """Wrap an SB3 ``VecEnv`` so that its observations carry the history (training side).
+
+    The stacked keys are those :class:`HistoryPolicy` builds at deployment; each
+    ``terminal_observation`` is stacked with its own episode's frames.
+    """
+    from stable_baselines3.common.vec_env import VecEnvWrapper
+
+    class HistoryVecEnv(VecEnvWrapper):
+        def __init__(self) -> None:
+            super().__init__(venv, observation_space=history_space(config, venv.observation_space))
+            self.stack = HistoryStack(config, venv.num_envs)
+
+        def reset(self) -> Any:
+            first: Any = self.venv.reset()
+            return self.stack.reset(first)
+
+        def step_wait(self) -> Any:
+            obs: Any
+            obs, rewards, dones, infos = self.venv.step_wait()
+            for i, info in enumerate(infos):
+                if "terminal_observation" in info:
+                    final = {
+                        k: np.asarray(v)[None] for k, v in info["terminal_observation"].items()
+                    }
+                    stacked = self.stack.peek(final, i)
+                    info["terminal_observation"] = {k: v[0] for k, v in stacked.items()}
+            return self.stack.step(obs, dones), rewards, dones, infos
+
+    return HistoryVecEnv()

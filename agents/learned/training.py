@@ -19,6 +19,7 @@ import subprocess
 import sys
 import time
 import zipfile
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -31,11 +32,13 @@ from stable_baselines3.common.vec_env import VecNormalize
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from agents.io import write_json
 from agents.learned.curriculum import StartReachCurriculum
+from agents.learned.history import HistoryConfig, history_vec_env
 from agents.learned.model_files import (
     DESCRIPTION,
     WEIGHTS,
     algorithms,
     has_policy_files,
+    load_policy,
     read_normalization,
     save_normalization,
     save_policy,
@@ -137,6 +140,51 @@ def _resume(model: Any, venv: Any, path: Path) -> None:
     _restore_normalization(venv, stats, default_count=max(steps, 1))
 
 
+@dataclass
+class _FineTune:
+    """What fine-tuning takes from a model directory (``train(..., init_from=DIR)``)."""
+
+    directory: Path
+    policy: Any
+    policy_kwargs: dict[str, Any]
+    history: HistoryConfig | None
+    normalised_keys: list[str]
+
+    @classmethod
+    def read(cls, directory: Path, algo: str) -> _FineTune:
+        """Read the policy, its history and its statistics (no pickle); errors name the file."""
+        if algo != "ppo":
+            raise ValueError(f"init_from fine-tunes a PPO policy; got algo {algo!r}")
+        policy, description = load_policy(directory)
+        if description["algo"] != "ppo":
+            raise ValueError(f"init_from: {directory} holds a {description['algo']} policy")
+        meta = json.loads((directory / "metadata.json").read_text())
+        history = (
+            HistoryConfig.from_mapping(meta["history"], f"{directory}/metadata.json: history")
+            if meta.get("history")
+            else None
+        )
+        params = policy._get_constructor_parameters()
+        kwargs = {
+            k: v
+            for k, v in params.items()
+            if k not in ("observation_space", "action_space", "lr_schedule", "use_sde")
+        }
+        stats = directory / "normalization.npz"
+        keys = sorted(read_normalization(stats)["stats"]) if stats.is_file() else []
+        return cls(directory, policy, kwargs, history, keys)
+
+    def apply(self, model: Any, venv: Any) -> None:
+        """Load the weights into ``model`` and the statistics into ``venv``."""
+        try:
+            model.policy.load_state_dict(self.policy.state_dict())
+        except RuntimeError as error:
+            raise ValueError(f"init_from: {self.directory}: {str(error)[:300]}") from None
+        stats = self.directory / "normalization.npz"
+        if isinstance(venv, VecNormalize) and stats.is_file():
+            _restore_normalization(venv, stats, default_count=1e6)
+
+
 def _restore_normalization(venv: VecNormalize, path: Path, default_count: float) -> None:
     """Set a ``VecNormalize``'s statistics from :func:`save_normalization`'s ``.npz``."""
     try:
@@ -209,6 +257,7 @@ def train(
     progress: bool = True,
     command: str | None = None,
     torch_threads: int = 1,
+    init_from: Path | str | None = None,
 ) -> Path:
     """Train a model and write its directory.
 
@@ -232,6 +281,10 @@ def train(
         Show a progress bar.
     command
         The command line, for the metadata (default: ``sys.argv``).
+    init_from
+        A model directory to fine-tune (e.g. a DAgger student, ``radial-ibvs distill``): its
+        policy's architecture and weights, its observation history and its normalisation
+        statistics (only the keys it normalised) replace the config's; ``algo`` must be PPO.
     torch_threads
         Threads for torch. One is fastest for these small networks: the envs dominate, and
         more threads than free cores make torch's busy-waiting threads slow everything down
@@ -258,18 +311,24 @@ def train(
     )
     if config.residual is not None:
         venv, eval_env = (ResidualVecEnv(v, config.residual) for v in (venv, eval_env))
+    init = _FineTune.read(Path(init_from), algo) if init_from is not None else None
+    if init is not None and init.history is not None:
+        venv, eval_env = (history_vec_env(v, init.history) for v in (venv, eval_env))
     if config.normalize is not None:
-        venv = VecNormalize(venv, **config.normalize)
-        eval_env = VecNormalize(eval_env, training=False, norm_reward=False)
+        keys: dict[str, Any] = {} if init is None else {"norm_obs_keys": init.normalised_keys}
+        venv = VecNormalize(venv, **config.normalize, **keys)
+        eval_env = VecNormalize(eval_env, training=False, norm_reward=False, **keys)
     model = ALGOS[algo](
         config.policy,
         venv,
         seed=seed,
-        policy_kwargs=config.policy_kwargs,
+        policy_kwargs=config.policy_kwargs if init is None else init.policy_kwargs,
         device="cpu",
         verbose=0,
         **config.algo_kwargs,
     )
+    if init is not None:
+        init.apply(model, venv)
     if resume is not None:
         _resume(model, venv, Path(resume))
     formats = ["csv"] + (["tensorboard"] if importlib.util.find_spec("tensorboard") else [])
@@ -319,6 +378,8 @@ def train(
         "seed": seed,
         **({"residual": config.residual.as_dict()} if config.residual else {}),
         **({"curriculum": config.curriculum.as_dict()} if config.curriculum else {}),
+        **({"history": init.history.as_dict()} if init and init.history else {}),
+        **({"init_from": str(init_from)} if init_from is not None else {}),
         "total_timesteps": int(model.num_timesteps),
         "command": command or " ".join(sys.argv),
         "config": _jsonable(config.source),
