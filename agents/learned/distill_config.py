@@ -1,0 +1,184 @@
+"""The settings of DAgger (:mod:`agents.learned.distill`): ``configs/agents/dagger_*.yaml``."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from agents.analytic import make_analytic
+from agents.learned.extractors import ERROR_KEYS
+from agents.learned.history import HistoryConfig
+from radial_ibvs_gym.config import read_yaml
+
+__all__ = ["ACTIVATIONS", "PRIVILEGED", "DaggerConfig", "load_dagger_config"]
+
+#: the student's activations, by name (torch.nn classes)
+ACTIVATIONS = {"relu": "ReLU", "tanh": "Tanh"}
+#: what the teacher needs added to the observation (the planner's poses and map)
+PRIVILEGED = {"privileged": True, "privileged_map": True}
+
+
+@dataclass(frozen=True)
+class DaggerConfig:
+    """A validated DAgger configuration (``configs/agents/dagger_*.yaml``).
+
+    Attributes
+    ----------
+    env_id
+        The Gymnasium id (with a native vector env).
+    env_kwargs
+        The student's ``gym.make`` arguments (its observation); the teacher's privileged
+        keys are added for the rollouts only.
+    teacher, teacher_kwargs
+        The teacher's name in :data:`agents.analytic.ANALYTIC_POLICIES` and its arguments.
+    n_envs
+        Robots stepped together.
+    rounds
+        DAgger rounds.
+    steps_per_round
+        Env steps collected per round (all robots together).
+    beta, beta_decay
+        Probability that the teacher's action is executed in round 0, multiplied by
+        ``beta_decay`` each round.
+    updates_per_round, batch_size, learning_rate
+        Gradient steps after each round, their batch size and Adam's step size.
+    dataset_size
+        The largest number of labelled states kept (older ones are replaced at random).
+    net_arch
+        Hidden layers of the student (and of its critic, for a later PPO fine-tuning).
+    activation
+        ``relu`` or ``tanh`` (SB3's PPO default).
+    history
+        The observation history the student gets (:class:`HistoryConfig`), or ``None``.
+    error_keys
+        The keys given to the network as direction and log-size
+        (:class:`agents.learned.extractors.ErrorScaleExtractor`); empty: raw, normalised.
+    initial_dataset
+        A Minari dataset of the teacher's episodes (``radial-ibvs collect --policy planner``,
+        its directory): its states and actions join the labels before the first round.
+    point_error
+        Give the network the image error ``x_n - x_n*`` too, as direction and log-size.
+    balance_actions
+        Weight each action component's squared error by the inverse of its label variance
+        (the turn labels vary about 7 times less than the speed labels, and an unweighted fit
+        shrinks the turns: students that circle the goal).
+    aux_weight
+        Weight of the auxiliary loss (the goal's pose in the robot frame, predicted from the
+        actor's last hidden layer by a head used in training only; 0: none).
+    eval_episodes, eval_seed
+        Held-out episodes evaluated after each round (seeds ``eval_seed + i``).
+    """
+
+    env_id: str = "RadialIBVS/Parking-v0"
+    env_kwargs: dict[str, Any] = field(default_factory=dict)
+    teacher: str = "planner"
+    teacher_kwargs: dict[str, Any] = field(default_factory=dict)
+    n_envs: int = 256
+    rounds: int = 20
+    steps_per_round: int = 65_536
+    beta: float = 1.0
+    beta_decay: float = 0.5
+    updates_per_round: int = 2_000
+    batch_size: int = 4_096
+    learning_rate: float = 1e-3
+    dataset_size: int = 2_000_000
+    net_arch: tuple[int, ...] = (256, 256)
+    activation: str = "relu"
+    history: HistoryConfig | None = None
+    error_keys: tuple[str, ...] = ERROR_KEYS
+    point_error: bool = True
+    balance_actions: bool = True
+    aux_weight: float = 1.0
+    initial_dataset: str | None = None
+    eval_episodes: int = 100
+    eval_seed: int = 10_000
+    source: dict[str, Any] = field(default_factory=dict)
+
+
+_INTS = ("n_envs", "rounds", "steps_per_round", "updates_per_round", "batch_size")
+_INTS_MORE = ("dataset_size", "eval_episodes", "eval_seed")
+
+
+def load_dagger_config(path: Path | str) -> DaggerConfig:
+    """Read and validate a DAgger YAML file (its ``dagger:`` section).
+
+    Raises
+    ------
+    ValueError
+        For an unknown key or a bad value (the message names the key and the value).
+    """
+    data = read_yaml(path)
+    section = data.get("dagger") if isinstance(data, Mapping) else None
+    if not isinstance(section, Mapping):
+        raise ValueError(f"{path}: expected a 'dagger:' mapping")
+    where = f"{path}: dagger"
+    known = {f for f in DaggerConfig.__dataclass_fields__ if f != "source"}
+    unknown = sorted(set(section) - known)
+    if unknown:
+        raise ValueError(f"{where}: unknown key(s) {unknown}; valid: {sorted(known)}")
+    values: dict[str, Any] = {}
+    for key in (*_INTS, *_INTS_MORE):
+        if key in section:
+            value = section[key]
+            if isinstance(value, float) and value.is_integer():
+                value = int(value)
+            least = 0 if key == "eval_seed" else 1
+            if isinstance(value, bool) or not isinstance(value, int) or value < least:
+                raise ValueError(f"{where}.{key} must be an integer >= {least}, got {value!r}")
+            values[key] = value
+    for key, low, high in (("beta", 0.0, 1.0), ("beta_decay", 0.0, 1.0)):
+        if key in section:
+            value = section[key]
+            if not isinstance(value, int | float) or not low <= value <= high:
+                raise ValueError(f"{where}.{key} must be in [{low}, {high}], got {value!r}")
+            values[key] = float(value)
+    for key in ("point_error", "balance_actions"):
+        if key in section:
+            if not isinstance(section[key], bool):
+                raise ValueError(f"{where}.{key} must be true or false, got {section[key]!r}")
+            values[key] = section[key]
+    if "aux_weight" in section:
+        value = section["aux_weight"]
+        if not isinstance(value, int | float) or not (math.isfinite(value) and value >= 0):
+            raise ValueError(f"{where}.aux_weight must be a number >= 0, got {value!r}")
+        values["aux_weight"] = float(value)
+    if "learning_rate" in section:
+        value = section["learning_rate"]
+        if not isinstance(value, int | float) or not (math.isfinite(value) and value > 0):
+            raise ValueError(f"{where}.learning_rate must be a positive number, got {value!r}")
+        values["learning_rate"] = float(value)
+    for key in ("env_kwargs", "teacher_kwargs"):
+        if key in section:
+            if not isinstance(section[key], Mapping):
+                raise ValueError(f"{where}.{key} must be a mapping, got {section[key]!r}")
+            values[key] = dict(section[key])
+    for key in ("env_id", "teacher", "initial_dataset"):
+        if key in section:
+            values[key] = str(section[key])
+    if "activation" in section:
+        if section["activation"] not in ACTIVATIONS:
+            raise ValueError(
+                f"{where}.activation must be one of {sorted(ACTIVATIONS)}, "
+                f"got {section['activation']!r}"
+            )
+        values["activation"] = section["activation"]
+    if "net_arch" in section:
+        arch = section["net_arch"]
+        if not isinstance(arch, list) or not all(
+            isinstance(n, int) and not isinstance(n, bool) and n > 0 for n in arch
+        ):
+            raise ValueError(f"{where}.net_arch must be a list of positive integers, got {arch!r}")
+        values["net_arch"] = tuple(arch)
+    if "error_keys" in section:
+        keys = section["error_keys"]
+        if not isinstance(keys, list) or not all(isinstance(k, str) for k in keys):
+            raise ValueError(f"{where}.error_keys must be a list of key names, got {keys!r}")
+        values["error_keys"] = tuple(keys)
+    if section.get("history") is not None:
+        values["history"] = HistoryConfig.from_mapping(section["history"], f"{where}.history")
+    config = DaggerConfig(**values, source={"file": str(path), "dagger": dict(section)})
+    make_analytic(config.teacher, **config.teacher_kwargs)  # the teacher's name and arguments
+    return config
