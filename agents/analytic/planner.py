@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from agents.analytic.pose_oracle import PoseOracle
 from radial_ibvs_gym.physics import RobotConfig
 
 __all__ = ["PLANNING_EXTRA", "MapPlanner", "Plan", "plan_path", "segment_free"]
@@ -215,6 +216,13 @@ class MapPlanner:
         with reversing, the turn's sign flips where the waypoint is abeam (90 deg), exactly
         where a student that drove past the goal ends up, and a student that averages the
         two labels there stands still.
+    final_radius
+        ``0`` (the default): the follower drives the whole path. ``> 0``: within this distance
+        of the goal, on the path's last segment, the paper's smooth control law on the true
+        poses (the ``oracle``, :class:`~agents.analytic.pose_oracle.PoseOracle`) takes over,
+        metres. A teacher (:mod:`agents.learned.distill`) uses it: near the goal the follower's
+        turn-creep-turn depends on millimetres, which an image-only student cannot see, while
+        the smooth law is a continuous function of the pose.
     hold_radius
         Within this distance of a waypoint the follower holds its heading and only drives
         along it (the bearing is sensitive to millimetres there), metres. A teacher labelling
@@ -240,6 +248,7 @@ class MapPlanner:
         hold_radius: float = 0.03,
         drive_gate: float = 0.0,
         reverse: bool = True,
+        final_radius: float = 0.0,
     ) -> None:
         _import_ompl()
         if isinstance(min_visible, bool) or not isinstance(min_visible, int) or min_visible < 0:
@@ -255,9 +264,10 @@ class MapPlanner:
             "time_limit_s": time_limit_s,
             "hold_radius": hold_radius,
             "drive_gate": drive_gate,
+            "final_radius": final_radius,
         }
         for name, value in values.items():
-            zero_ok = name in ("margin", "hold_radius", "drive_gate")
+            zero_ok = name in ("margin", "hold_radius", "drive_gate", "final_radius")
             if not (math.isfinite(value) and value >= 0 and (value > 0 or zero_ok)):
                 raise ValueError(f"{name} must be finite and positive, got {value!r}")
         self.margin, self.gain = float(margin), float(gain)
@@ -268,6 +278,8 @@ class MapPlanner:
         self.hold_radius = float(hold_radius)
         self.drive_gate = float(drive_gate)
         self.reverse = bool(reverse)
+        self.final_radius = float(final_radius)
+        self._oracle = PoseOracle(robot=self.robot) if self.final_radius > 0 else None
         self.radius = 0.5 * math.hypot(self.robot.length, self.robot.width) + self.margin
 
     env_kwargs: dict[str, bool] = {"privileged": True, "privileged_map": True}  # noqa: RUF012
@@ -332,8 +344,18 @@ class MapPlanner:
         for i, row in enumerate(rows):
             if starts[i] or plans[i] is None:
                 plans[i] = self.make_plan(row)
-            actions[i] = self._follow(plans[i], np.asarray(row["robot_pose"], dtype=np.float64))
+            pose = np.asarray(row["robot_pose"], dtype=np.float64)
+            if self._oracle is not None and self._near_goal(plans[i], pose):
+                actions[i] = self._oracle.predict(row)[0]
+            else:
+                actions[i] = self._follow(plans[i], pose)
         return (actions if batched else actions[0]), plans
+
+    def _near_goal(self, plan: Plan, pose: F64) -> bool:
+        """Whether the robot is within ``final_radius`` of the goal, on the last segment."""
+        goal = plan.waypoints[-1]
+        last = plan.index >= len(plan.waypoints) - 1
+        return last and math.hypot(goal[0] - pose[0], goal[1] - pose[1]) < self.final_radius
 
     def _ramp(self, distance: float, limit: float, accel: float) -> float:
         """Return the speed that stops on ``distance``: proportional, limited, ramped down."""
