@@ -140,6 +140,8 @@ def test_dagger_writes_a_model_agents_load_runs(student):
     assert type(policy).__name__ == "HistoryPolicy"
     meta = policy.metadata
     assert meta["trained_by"] == "dagger" and meta["teacher"] == "planner"
+    assert policy.env_kwargs == ENV and meta["algo"] == "ppo"  # what evaluate makes the env with
+    assert meta["best_round"] in range(config.rounds)
     assert "residual" not in meta  # no analytic policy inside at deployment
     import gymnasium as gym
 

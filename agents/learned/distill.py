@@ -21,6 +21,7 @@ model directory that :func:`agents.load` runs like the others, with no analytic 
 from __future__ import annotations
 
 import csv
+import json
 import time
 from collections.abc import Mapping
 from pathlib import Path
@@ -244,7 +245,8 @@ def dagger(
     final = out / "rounds" / f"round_{int(best['round'])}"
     for name in ("policy.safetensors", "policy.json", "normalization.npz"):
         (out / name).write_bytes((final / name).read_bytes())
-    meta = _metadata(config, seed, rows, command) | {"best_round": int(best["round"])}
+    meta = json.loads((final / "metadata.json").read_text())  # algo, env_id, env_kwargs...
+    meta |= _metadata(config, seed, rows, command) | {"best_round": int(best["round"])}
     write_json(out / "metadata.json", meta)
     _plot(rows, out / "learning_curve.png")
     venv.close()
