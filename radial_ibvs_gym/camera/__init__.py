@@ -5,6 +5,8 @@
   cone);
 - :mod:`.catadioptric`: exact forward/backward projection, central and non-central,
   visibility and imperfections;
+- :mod:`.batch`: the exact projection of many cameras' points at once (one mirror, per-camera
+  intrinsics and noise);
 - :mod:`.radial`: the radial model, pixels or 3D points to the unit circle (eq. 4-9);
 - :mod:`.presets`: the paper's mirrors A and B with a 6 mm lens;
 - :mod:`.spec`: camera configs loaded from ``configs/cameras/*.yaml``;
@@ -12,6 +14,7 @@
   the image.
 """
 
+from radial_ibvs_gym.camera.batch import forward_batch, shares_reflection
 from radial_ibvs_gym.camera.catadioptric import CatadioptricCamera, Imperfections, Projection
 from radial_ibvs_gym.camera.diagnostics import invariance_errors, mirror_circle_pixels
 from radial_ibvs_gym.camera.mirrors import (
@@ -43,6 +46,7 @@ __all__ = [
     "QuadricMirror",
     "RadialPoints",
     "Sphere",
+    "forward_batch",
     "invariance_errors",
     "load_camera",
     "mirror_circle_pixels",
@@ -50,4 +54,5 @@ __all__ = [
     "paper_camera",
     "paper_intrinsics",
     "radial_points",
+    "shares_reflection",
 ]

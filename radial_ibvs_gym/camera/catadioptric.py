@@ -337,6 +337,28 @@ class CatadioptricCamera:
         check_finite(p, "points")
         shape = p.shape[:-1]
         flat = p.reshape(-1, 3)
+        m_m, p_m = self._reflect(flat)
+        q, visible = self._sensor_rays(m_m, p_m)
+        with np.errstate(invalid="ignore", divide="ignore"):
+            pixels = self.true_intrinsics.project(q[:, :2] / q[:, 2:3])
+            visible &= self.true_intrinsics.contains(pixels)
+        if rng is not None and self.imperfections.pixel_noise_std > 0.0:
+            pixels = pixels + rng.normal(0.0, self.imperfections.pixel_noise_std, pixels.shape)
+        pixels = np.where(visible[:, None], pixels, np.nan)
+        return Projection(
+            pixels=pixels.reshape(*shape, 2),
+            mirror_points=(m_m - np.array([0.0, 0.0, self.camera_z])).reshape(*shape, 3),
+            visible=visible.reshape(shape),
+        )
+
+    def _reflect(
+        self, flat: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Reflection points ``(K, 3)`` of points ``(K, 3)`` (camera frame), mirror frame.
+
+        Returns the reflection points (NaN where none) and the points in the mirror frame.
+        Depends on the mirror, ``camera_z`` and the axis offset only, not on the intrinsics.
+        """
         rho_p = np.hypot(flat[:, 0], flat[:, 1])
         z_p = flat[:, 2] + self.camera_z
         on_axis = rho_p <= 1e-12
@@ -350,29 +372,30 @@ class CatadioptricCamera:
         if any(self.imperfections.axis_offset):
             with np.errstate(invalid="ignore", divide="ignore"):
                 m_m = self._refine_offaxis(m_m, p_m)
+        return m_m, p_m
+
+    def _sensor_rays(
+        self, m_m: NDArray[np.float64], p_m: NDArray[np.float64]
+    ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+        """Reflection points in the actual camera's axes ``(K, 3)``, and their visibility.
+
+        The visibility here is everything but the sensor's bounds: a reflection on the
+        silvered part, outside the blind zone, in front of the camera, not occluded.
+        """
         found = np.all(np.isfinite(m_m), axis=-1)
         radius = np.hypot(m_m[:, 0], m_m[:, 1])
         m_cam = m_m - np.array([0.0, 0.0, self.camera_z])
         q = (m_cam - self._pinhole) @ self._R  # actual camera coordinates: R^T (m - c)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            pixels = self.true_intrinsics.project(q[:, :2] / q[:, 2:3])
+        with np.errstate(invalid="ignore"):
             visible = (
                 found
                 & (q[:, 2] > 0.0)
                 & (radius >= self._r_blind)
                 & (radius <= self.mirror.rim_radius)
-                & self.true_intrinsics.contains(pixels)
             )
         if self.mirror.concave:
             visible &= ~self._occluded(p_m, m_m)
-        if rng is not None and self.imperfections.pixel_noise_std > 0.0:
-            pixels = pixels + rng.normal(0.0, self.imperfections.pixel_noise_std, pixels.shape)
-        pixels = np.where(visible[:, None], pixels, np.nan)
-        return Projection(
-            pixels=pixels.reshape(*shape, 2),
-            mirror_points=m_cam.reshape(*shape, 3),
-            visible=visible.reshape(shape),
-        )
+        return q, visible
 
     def _occluded(self, p_m: NDArray[np.float64], m_m: NDArray[np.float64]) -> NDArray[np.bool_]:
         """Whether the incoming segment P -> M crosses the silvered sheet before M."""

@@ -17,6 +17,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from radial_ibvs_gym.camera import CatadioptricCamera, Imperfections, normalise_pixels
+from radial_ibvs_gym.camera.batch import forward_batch, shares_reflection
 from radial_ibvs_gym.features import c_ij, virtual_point_weights
 from radial_ibvs_gym.geometry import wrap_angle
 from radial_ibvs_gym.limits import MAX_LANDMARKS
@@ -27,6 +28,7 @@ __all__ = [
     "REWARD_TERMS",
     "Slots",
     "camera_image",
+    "camera_images",
     "episode_end",
     "feature_errors",
     "goal_weights",
@@ -115,6 +117,52 @@ def camera_image(
     pixels = np.where(proj.visible[:, None], proj.pixels, k.principal_point + 1.0)
     x_n = normalise_pixels(pixels, k.principal_point, k.rho_f)
     return np.where(proj.visible[:, None], x_n, 0.0), proj.visible
+
+
+def camera_images(
+    cameras: Sequence[CatadioptricCamera],
+    p_cam: Array,
+    rngs: Sequence[np.random.Generator],
+) -> tuple[Array, NDArray[np.bool_]]:
+    """:func:`camera_image` for ``K`` cameras at once, each with its own generator.
+
+    The cameras with imperfections that share the mirror's reflection
+    (:func:`~radial_ibvs_gym.camera.batch.shares_reflection`) are projected in one batched
+    root-find (:func:`~radial_ibvs_gym.camera.batch.forward_batch`); the result is, row for
+    row and bit for bit, what :func:`camera_image` gives each camera.
+
+    Parameters
+    ----------
+    cameras
+        ``K`` cameras (one per env).
+    p_cam
+        ``(K, N, 3)`` landmarks, row ``k`` in camera ``k``'s frame, metres.
+    rngs
+        ``K`` generators (pixel noise).
+
+    Returns
+    -------
+    points, visible
+        ``(K, N, 2)`` (zeros where hidden) and ``(K, N)``.
+    """
+    k, n = p_cam.shape[:2]
+    points = np.zeros((k, n, 2))
+    visible = np.zeros((k, n), dtype=bool)
+    batched = [i for i, c in enumerate(cameras) if c.imperfections.any]
+    for i in sorted(set(range(k)) - set(batched)):
+        points[i], visible[i] = camera_image(cameras[i], p_cam[i], rngs[i])
+    group = [cameras[i] for i in batched]
+    if len(group) < 2 or not shares_reflection(group):
+        for i in batched:
+            points[i], visible[i] = camera_image(cameras[i], p_cam[i], rngs[i])
+        return points, visible
+    proj = forward_batch(group, p_cam[batched], [rngs[i] for i in batched])
+    nominal = group[0].intrinsics  # shared by the group
+    pixels = np.where(proj.visible[..., None], proj.pixels, nominal.principal_point + 1.0)
+    x_n = normalise_pixels(pixels, nominal.principal_point, nominal.rho_f)
+    points[batched] = np.where(proj.visible[..., None], x_n, 0.0)
+    visible[batched] = proj.visible
+    return points, visible
 
 
 def _lib(x: Any) -> Any:

@@ -11,6 +11,7 @@ run). It takes the scalar env's keyword arguments and gives the same numbers as
 
 from __future__ import annotations
 
+import math
 from typing import Any
 
 import numpy as np
@@ -141,6 +142,7 @@ class ParkingVectorEnv(VectorEnv):
         self._rngs: list[np.random.Generator | None] = [None] * n
         self._setups: list[EpisodeSetup | None] = [None] * n
         self._landmarks_c = np.zeros((n, nl), dtype=np.complex128)
+        self._landmarks_w = np.zeros((n, nl, 3))  # world frame (the imperfect camera's input)
         self._bounds = np.zeros((2, n, nl))  # current camera: visible distance interval
         self._goals = np.zeros((n, 3))
         self._tasks = np.zeros(n, dtype=np.int64)
@@ -229,6 +231,7 @@ class ParkingVectorEnv(VectorEnv):
             setup = t.setup_episode(rng, task, options)
             episode = setup.episode
             self._landmarks_c[i] = setup.landmarks_c
+            self._landmarks_w[i] = episode.landmarks
             if self._fast:
                 bounds = setup.radius_bounds["current"]
                 assert bounds is not None
@@ -374,16 +377,17 @@ class ParkingVectorEnv(VectorEnv):
                     self._points[i], self._visible[i] = missed.apply(
                         self._points[i], self._visible[i]
                     )
-        else:  # a camera with imperfections: exact projection and noise, env by env
-            for i in indices.tolist():
-                rng = self._rngs[i]
-                assert rng is not None
-                setup = self._setups[i]
-                assert setup is not None
-                self._points[i], self._visible[i] = self.template.image(
-                    setup, poses[i], "current", rng
-                )
-                if setup.missed is not None:
+        elif len(indices):  # a camera with imperfections: exact projection and noise, batched
+            rows = indices.tolist()
+            setups = [self._setups[i] for i in rows]
+            rngs = [self._rngs[i] for i in rows]
+            assert all(s is not None for s in setups) and all(r is not None for r in rngs)
+            cameras = [s.cameras["current"] for s in setups]
+            p_cam = self._camera_frame(poses[indices], indices)
+            points, visible = logic.camera_images(cameras, p_cam, rngs)
+            self._points[indices], self._visible[indices] = points, visible
+            for i, setup in zip(rows, setups, strict=True):
+                if setup is not None and setup.missed is not None:
                     self._points[i], self._visible[i] = setup.missed.apply(
                         self._points[i], self._visible[i]
                     )
@@ -400,6 +404,21 @@ class ParkingVectorEnv(VectorEnv):
                 self._has_weights[i] = a is not None
                 self._weights[i] = 0.0 if a is None else a
             self._both[indices] = both
+
+    def _camera_frame(self, poses: NDArray[np.float64], indices: NDArray[np.intp]) -> Any:
+        """Landmarks ``(k, N, 3)`` of the envs ``indices`` in their cameras' frames, metres.
+
+        :func:`~radial_ibvs_gym.geometry.world_to_camera` batched, with each yaw's cosine and
+        sine taken as the scalar env takes them (``math``), so the numbers are its own.
+        """
+        landmarks = self._landmarks_w[indices]
+        yaw = poses[:, 2].tolist()
+        c = np.array([math.cos(a) for a in yaw])[:, None]
+        s = np.array([math.sin(a) for a in yaw])[:, None]
+        dx = landmarks[..., 0] - poses[:, 0, None]
+        dy = landmarks[..., 1] - poses[:, 1, None]
+        z = landmarks[..., 2] - self.template.scenario.config.camera_height
+        return np.stack([c * dx + s * dy, -s * dx + c * dy, z], axis=-1)
 
     def _observation(self, idx: Any = slice(None)) -> dict[str, NDArray[Any]]:
         """Return the observations of the envs ``idx`` (default: all)."""

@@ -1,0 +1,112 @@
+"""Exact projection for many cameras at once: one mirror, per-camera intrinsics and noise.
+
+A vector env with imperfect cameras holds one camera per robot: the same mirror and pinhole
+position, but each with its own principal-point offset, focal-ratio error and pixel noise
+(drawn per episode). The costly part of the projection, the reflection point on the mirror
+(a root-find per point, :meth:`CatadioptricCamera.forward`), depends on the mirror and the
+pinhole only, so :func:`forward_batch` solves it once for every camera's points, then applies
+each camera's true intrinsics and draws each camera's noise from its own generator. The
+result is, bit for bit, what each camera's :meth:`~CatadioptricCamera.forward` gives.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from radial_ibvs_gym._validation import as_float_array, check_finite, check_last_dim
+from radial_ibvs_gym.camera.catadioptric import CatadioptricCamera, Projection
+
+__all__ = ["forward_batch", "shares_reflection"]
+
+
+def shares_reflection(cameras: Sequence[CatadioptricCamera]) -> bool:
+    """Whether the cameras reflect every point at the same mirror point.
+
+    True when they share the mirror, the pinhole's height on the axis, the lens radius and
+    the nominal intrinsics, and none is tilted or off the axis: they differ at most in the
+    principal point, the focal ratio and the pixel noise.
+    """
+    if not cameras:
+        return True
+    first = cameras[0]
+    return all(
+        (c.mirror is first.mirror or c.mirror == first.mirror)
+        and c.camera_z == first.camera_z
+        and c.lens_radius == first.lens_radius
+        and (c.intrinsics is first.intrinsics or c.intrinsics == first.intrinsics)
+        and not c.imperfections.geometric
+        for c in cameras
+    )
+
+
+def forward_batch(
+    cameras: Sequence[CatadioptricCamera],
+    points: ArrayLike,
+    rngs: Sequence[np.random.Generator | None] | None = None,
+) -> Projection:
+    """Project each camera's points: :meth:`CatadioptricCamera.forward`, batched.
+
+    Parameters
+    ----------
+    cameras
+        ``K`` cameras. Where they share the reflection (:func:`shares_reflection`) one
+        root-find serves all of them; otherwise each projects its own points.
+    points
+        ``(K, N, 3)`` points, row ``k`` in camera ``k``'s frame, metres.
+    rngs
+        ``K`` generators (or ``None``) for each camera's pixel noise, drawn in the order and
+        shape that camera's ``forward(points[k], rng)`` would draw it.
+
+    Returns
+    -------
+    Projection
+        ``pixels`` ``(K, N, 2)`` (NaN where hidden), ``mirror_points`` ``(K, N, 3)`` and
+        ``visible`` ``(K, N)``: row ``k`` equal to ``cameras[k].forward(points[k], rngs[k])``.
+
+    Raises
+    ------
+    ValueError
+        For NaN/inf coordinates, a wrong shape, or ``K`` that differs from the number of
+        cameras or generators.
+    """
+    p = as_float_array(points, "points")
+    check_last_dim(p, 3, "points")
+    check_finite(p, "points")
+    k = len(cameras)
+    if p.ndim != 3 or p.shape[0] != k:
+        raise ValueError(f"points must have shape ({k}, N, 3) for {k} cameras, got {p.shape}")
+    generators: Sequence[np.random.Generator | None] = [None] * k if rngs is None else rngs
+    if len(generators) != k:
+        raise ValueError(f"{len(generators)} generators for {k} cameras")
+    n = p.shape[1]
+    if k == 0 or not shares_reflection(cameras):
+        rows = [c.forward(p[i], generators[i]) for i, c in enumerate(cameras)]
+        if not rows:
+            return Projection(np.zeros((0, n, 2)), np.zeros((0, n, 3)), np.zeros((0, n), bool))
+        return Projection(*(np.stack(parts) for parts in zip(*rows, strict=True)))
+    first = cameras[0]
+    flat = p.reshape(-1, 3)
+    m_m, p_m = first._reflect(flat)
+    q, visible = first._sensor_rays(m_m, p_m)
+    true = [c.true_intrinsics for c in cameras]
+    fx, fy, mu_x, mu_y = (
+        np.repeat(np.array([getattr(t, name) for t in true]), n)
+        for name in ("fx", "fy", "mu_x", "mu_y")
+    )
+    with np.errstate(invalid="ignore", divide="ignore"):
+        x = q[:, :2] / q[:, 2:3]
+        pixels = np.stack([fx * x[..., 0] + mu_x, fy * x[..., 1] + mu_y], -1)
+        # the sensor's size is the nominal one, shared
+        visible &= first.true_intrinsics.contains(pixels)
+    pixels = pixels.reshape(k, n, 2)
+    visible = visible.reshape(k, n)
+    for i, (camera, rng) in enumerate(zip(cameras, generators, strict=True)):
+        std = camera.imperfections.pixel_noise_std
+        if rng is not None and std > 0.0:
+            pixels[i] = pixels[i] + rng.normal(0.0, std, (n, 2))
+    pixels = np.where(visible[..., None], pixels, np.nan)
+    mirror_points = m_m - np.array([0.0, 0.0, first.camera_z])
+    return Projection(pixels, mirror_points.reshape(k, n, 3), visible)
