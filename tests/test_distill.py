@@ -12,7 +12,7 @@ from gymnasium import spaces
 from agents import load
 from agents.analytic import make_analytic
 from agents.learned.distill import dagger, goal_in_robot_frame, load_dagger_config
-from agents.learned.extractors import ErrorScaleExtractor
+from agents.learned.extractors import ErrorScaleExtractor, LandmarkSetExtractor
 from agents.learned.history import HistoryConfig, HistoryStack, history_key, history_space
 from agents.learned.sb3_vec_env import make_vec_env
 
@@ -83,6 +83,67 @@ def test_error_scale_extractor_is_scale_invariant_in_direction():
     np.testing.assert_allclose(big[0, 2:8], tiny[0, 2:8], atol=0.2)
     assert float(big[0, 8]) - float(tiny[0, 8]) > 3.0
     np.testing.assert_array_equal(big[0, 9:], 0.0)
+
+
+def _set_space(n: int = 5):
+    return spaces.Dict(
+        {
+            "alpha_m_error": spaces.Box(-4, 4, (1,)),
+            "goal_depths": spaces.Box(0, 1e3, (n,)),
+            "goal_points": spaces.Box(-1, 1, (2 * n,)),
+            "points": spaces.Box(-1, 1, (2 * n,)),
+            "visible": spaces.Box(0, 1, (n,)),
+        }
+    )
+
+
+def _set_obs(rng, n: int = 5, seen: int = 4):
+    angle = rng.uniform(-np.pi, np.pi, (2, n))
+    now, goal = (np.stack([np.cos(a), np.sin(a)], axis=-1) for a in angle)
+    visible = np.zeros(n)
+    visible[:seen] = 1.0
+    now *= visible[:, None]
+    return {
+        "alpha_m_error": torch.tensor([[0.02]]),
+        "goal_depths": torch.tensor(rng.uniform(0.5, 4.0, (1, n)), dtype=torch.float32),
+        "goal_points": torch.tensor(goal.reshape(1, -1), dtype=torch.float32),
+        "points": torch.tensor(now.reshape(1, -1), dtype=torch.float32),
+        "visible": torch.tensor(visible[None], dtype=torch.float32),
+    }
+
+
+def test_landmark_set_extractor_is_the_same_whichever_slots_the_landmarks_fill():
+    torch.manual_seed(0)
+    extractor = LandmarkSetExtractor(_set_space(), token_dim=16)
+    base = ErrorScaleExtractor(_set_space(), point_error=True)
+    assert extractor.features_dim == base.features_dim + 2 * 16 + 1
+    obs = _set_obs(np.random.default_rng(1))
+    order = torch.tensor([3, 0, 4, 1, 2])  # the landmarks moved to other slots
+
+    def permute(key, value):
+        width = value.shape[1] // 5
+        if key == "alpha_m_error":
+            return value
+        return value.reshape(1, 5, width)[:, order].reshape(1, -1)
+
+    moved = {k: permute(k, v) for k, v in obs.items()}
+    a, b = extractor(obs), extractor(moved)
+    tail = 2 * 16 + 1  # the set encoding: permutation invariant
+    torch.testing.assert_close(a[:, -tail:], b[:, -tail:])
+    assert float(a[0, -1].detach()) == pytest.approx(4 / 5)  # the share of slots seen
+    assert (a[0, -tail:-1] > 0).any()  # the encoding is not empty
+    # a hidden landmark's slot changes nothing, whatever numbers it holds
+    hidden = {k: v.clone() for k, v in obs.items()}
+    hidden["goal_points"][0, 8:] = torch.tensor([0.6, 0.8])
+    hidden["goal_depths"][0, 4] = 9.0
+    torch.testing.assert_close(extractor(hidden)[:, -tail:], a[:, -tail:])
+
+
+def test_landmark_set_extractor_names_a_missing_key():
+    space = _set_space()
+    del space.spaces["goal_depths"]
+    with pytest.raises(ValueError, match="goal_depths"):
+        LandmarkSetExtractor(space)
 
 
 def test_goal_in_robot_frame():
@@ -190,6 +251,7 @@ def test_dagger_is_deterministic_under_a_seed(student, tmp_path):
         ("  net_arch: [64, -1]", "net_arch"),
         ("  rouns: 3", "rouns"),
         ("  aux_weight: -1", "aux_weight"),
+        ("  extractor: transformer", "transformer"),
     ],
 )
 def test_config_errors_name_the_key(tmp_path, line, match):
@@ -197,6 +259,24 @@ def test_config_errors_name_the_key(tmp_path, line, match):
     path.write_text(SMALL + line + "\n")
     with pytest.raises(ValueError, match=match):
         load_dagger_config(path)
+
+
+def test_a_landmark_set_student_is_stored_without_a_pickle_and_loads(tmp_path):
+    path = tmp_path / "config.yaml"
+    small = SMALL.replace("  history: {frames: 3}\n", "").replace("rounds: 2", "rounds: 1")
+    path.write_text(small + "  extractor: landmark_set\n")
+    config = load_dagger_config(path)
+    assert config.extractor == "landmark_set"
+    out = dagger(config, tmp_path / "student", seed=0, progress=False)
+    policy = load(out)
+    assert "LandmarkSetExtractor" in (out / "policy.json").read_text()
+    files = np.load(out / "normalization.npz").files
+    normalised = {k.split("/", 1)[1] for k in files if k.startswith("mean/")}
+    assert "landmark_mask" in normalised  # the extractor reads the landmark keys raw:
+    assert not normalised & {"points", "goal_points", "goal_depths", "visible"}
+    venv = make_vec_env("RadialIBVS/Parking-v0", 2, seed=5, monitor=False, **ENV)
+    action, _ = policy.predict(venv.reset())
+    assert action.shape == (2, 2) and np.isfinite(action).all()
 
 
 def test_ppo_fine_tuning_starts_from_the_student(student, tmp_path):

@@ -31,8 +31,15 @@ import numpy as np
 
 from agents.analytic import make_analytic
 from agents.io import write_json
-from agents.learned.distill_config import ACTIVATIONS, PRIVILEGED, DaggerConfig, load_dagger_config
-from agents.learned.extractors import ErrorScaleExtractor, error_key_of, raw_keys
+from agents.learned import extractors
+from agents.learned.distill_config import (
+    ACTIVATIONS,
+    EXTRACTORS,
+    PRIVILEGED,
+    DaggerConfig,
+    load_dagger_config,
+)
+from agents.learned.extractors import error_key_of, raw_keys
 from agents.learned.history import HistoryConfig, HistoryStack, history_space
 
 __all__ = ["DaggerConfig", "dagger", "dataset_labels", "goal_in_robot_frame", "load_dagger_config"]
@@ -123,6 +130,7 @@ def dagger(
         config.env_id, config.n_envs, seed=seed, monitor=False, **config.env_kwargs, **PRIVILEGED
     )
     teacher = make_analytic(config.teacher, **config.teacher_kwargs)
+    landmark_set = config.extractor == "landmark_set"
     model = PPO(
         "MultiInputPolicy",
         _spaces_env(student_space, venv.action_space),
@@ -134,13 +142,13 @@ def dagger(
             "log_std_init": -1.0,
             **(
                 {
-                    "features_extractor_class": ErrorScaleExtractor,
+                    "features_extractor_class": getattr(extractors, EXTRACTORS[config.extractor]),
                     "features_extractor_kwargs": {
                         "error_keys": list(config.error_keys),
                         "point_error": config.point_error,
                     },
                 }
-                if config.error_keys or config.point_error
+                if config.error_keys or config.point_error or landmark_set
                 else {}
             ),
         },
@@ -155,7 +163,7 @@ def dagger(
     # actor's last hidden layer (what the student must infer from the image to act)
     aux_head = torch.nn.Linear(policy.mlp_extractor.latent_dim_pi, 4)
     optimiser = torch.optim.Adam([*actor, *aux_head.parameters()], lr=config.learning_rate)
-    raw = raw_keys(config.error_keys, config.point_error)  # the extractor reads them raw
+    raw = raw_keys(config.error_keys, config.point_error, landmark_set)  # read raw
     rms = {
         k: RunningMeanStd(shape=tuple(student_space.spaces[k].shape or ()))
         for k in student_space.spaces

@@ -13,10 +13,12 @@ from agents.learned.extractors import ERROR_KEYS
 from agents.learned.history import HistoryConfig
 from radial_ibvs_gym.config import read_yaml
 
-__all__ = ["ACTIVATIONS", "PRIVILEGED", "DaggerConfig", "load_dagger_config"]
+__all__ = ["ACTIVATIONS", "EXTRACTORS", "PRIVILEGED", "DaggerConfig", "load_dagger_config"]
 
 #: the student's activations, by name (torch.nn classes)
 ACTIVATIONS = {"relu": "ReLU", "tanh": "Tanh"}
+#: the student's feature extractors, by name (classes of :mod:`agents.learned.extractors`)
+EXTRACTORS = {"error_scale": "ErrorScaleExtractor", "landmark_set": "LandmarkSetExtractor"}
 #: what the teacher needs added to the observation (the planner's poses and map)
 PRIVILEGED = {"privileged": True, "privileged_map": True}
 
@@ -61,6 +63,10 @@ class DaggerConfig:
         its directory): its states and actions join the labels before the first round.
     point_error
         Give the network the image error ``x_n - x_n*`` too, as direction and log-size.
+    extractor
+        ``error_scale`` (:class:`agents.learned.extractors.ErrorScaleExtractor`) or
+        ``landmark_set`` (:class:`agents.learned.extractors.LandmarkSetExtractor`: the same
+        features plus a learned encoding of the landmarks as a set).
     balance_actions
         Weight each action component's squared error by the inverse of its label variance
         (the turn labels vary about 7 times less than the speed labels, and an unweighted fit
@@ -90,6 +96,7 @@ class DaggerConfig:
     history: HistoryConfig | None = None
     error_keys: tuple[str, ...] = ERROR_KEYS
     point_error: bool = True
+    extractor: str = "error_scale"
     balance_actions: bool = True
     aux_weight: float = 1.0
     initial_dataset: str | None = None
@@ -158,6 +165,12 @@ def load_dagger_config(path: Path | str) -> DaggerConfig:
     for key in ("env_id", "teacher", "initial_dataset"):
         if key in section:
             values[key] = str(section[key])
+    if "extractor" in section:
+        if section["extractor"] not in EXTRACTORS:
+            raise ValueError(
+                f"{where}.extractor must be one of {list(EXTRACTORS)}, got {section['extractor']!r}"
+            )
+        values["extractor"] = section["extractor"]
     if "activation" in section:
         if section["activation"] not in ACTIVATIONS:
             raise ValueError(

@@ -25,7 +25,15 @@ import torch
 from gymnasium import spaces
 from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
 
-__all__ = ["ERROR_KEYS", "POINT_KEYS", "ErrorScaleExtractor", "error_key_of", "raw_keys"]
+__all__ = [
+    "ERROR_KEYS",
+    "LANDMARK_KEYS",
+    "POINT_KEYS",
+    "ErrorScaleExtractor",
+    "LandmarkSetExtractor",
+    "error_key_of",
+    "raw_keys",
+]
 
 #: the observation keys treated as errors by default (the features observation)
 ERROR_KEYS = ("c_error", "alpha_m_error")
@@ -35,9 +43,16 @@ ERROR_KEYS = ("c_error", "alpha_m_error")
 POINT_KEYS = ("points", "goal_points", "visible")
 
 
-def raw_keys(error_keys: tuple[str, ...], point_error: bool) -> tuple[str, ...]:
-    """Return the base keys :class:`ErrorScaleExtractor` reads raw (not to be normalised)."""
-    return (*error_keys, *(POINT_KEYS if point_error else ()))
+#: the keys :class:`LandmarkSetExtractor` builds its landmark tokens from
+LANDMARK_KEYS = ("points", "goal_points", "visible", "goal_depths")
+
+
+def raw_keys(
+    error_keys: tuple[str, ...], point_error: bool, landmark_set: bool = False
+) -> tuple[str, ...]:
+    """Return the base keys the extractors read raw (not to be normalised)."""
+    keys = (*error_keys, *(POINT_KEYS if point_error else ()))
+    return (*keys, *(k for k in LANDMARK_KEYS if landmark_set and k not in keys))
 
 
 def error_key_of(key: str, error_keys: tuple[str, ...]) -> str | None:
@@ -111,3 +126,98 @@ class ErrorScaleExtractor(BaseFeaturesExtractor):
     def extra_repr(self) -> str:
         """Return the settings, for ``print(policy)``."""
         return f"error_keys={self.error_keys}, eps={self.eps}, point_error={self.point_error}"
+
+
+class LandmarkSetExtractor(ErrorScaleExtractor):
+    """:class:`ErrorScaleExtractor`'s features, plus a learned encoding of the landmark set.
+
+    An MLP fed the landmark slots one after the other must learn the same geometry once per
+    slot, and the slots a room fills vary. Here every landmark seen now and in the goal image
+    is a *token*, encoded by one shared network (``phi``, learned), and the tokens are pooled
+    (masked mean and max), as in Deep Sets (Zaheer et al., 2017): the encoding is the same
+    whichever slot a landmark occupies and however many there are. Each token holds what
+    the landmark tells about the goal's pose in the robot frame (14 numbers):
+
+    - the current and goal image points ``x_n``, ``x_n*`` and the goal depth ``d*``
+      (metres) and ``1 / d*``;
+    - its image error ``x_n - x_n*`` divided by the norm of all the landmarks' errors (a
+      direction, which stays informative as the errors vanish near the goal);
+    - the landmark's position in the goal frame, ``p = d* x_n*``, and its dot and cross
+      products with ``x_n`` (the coefficients of the bearing constraint that ties ``x_n``
+      to the goal's pose);
+    - the cosine and sine of the angle from ``x_n*`` to ``x_n``.
+
+    Nothing is solved: the pose is left for the network to infer. The pooled encoding and
+    the share of slots seen are appended to :class:`ErrorScaleExtractor`'s features.
+
+    Parameters
+    ----------
+    observation_space
+        The ``Dict`` observation space (needs ``points``, ``goal_points``, ``visible`` and
+        ``goal_depths``).
+    error_keys, eps, point_error
+        As :class:`ErrorScaleExtractor`.
+    token_dim
+        Width of ``phi``'s two layers.
+    """
+
+    TOKEN_INPUTS = 14
+
+    def __init__(
+        self,
+        observation_space: spaces.Dict,
+        error_keys: tuple[str, ...] | list[str] = ERROR_KEYS,
+        eps: float = 1e-3,
+        point_error: bool = True,
+        token_dim: int = 128,
+    ) -> None:
+        missing = sorted(set(LANDMARK_KEYS) - set(observation_space.spaces))
+        if missing:
+            raise ValueError(f"LandmarkSetExtractor needs the observation keys {missing}")
+        if not (isinstance(token_dim, int) and token_dim > 0):
+            raise ValueError(f"token_dim must be a positive integer, got {token_dim!r}")
+        super().__init__(observation_space, error_keys, eps, point_error)
+        base = self._features_dim
+        self._features_dim = base + 2 * token_dim + 1
+        self.token_dim = token_dim
+        self.phi = torch.nn.Sequential(
+            torch.nn.Linear(self.TOKEN_INPUTS, token_dim),
+            torch.nn.ReLU(),
+            torch.nn.Linear(token_dim, token_dim),
+            torch.nn.ReLU(),
+        )
+
+    def tokens(self, observations: dict[str, torch.Tensor]) -> tuple[torch.Tensor, torch.Tensor]:
+        """Return the tokens ``(B, N, 14)`` and the mask of landmarks seen ``(B, N)``."""
+        b = observations["points"].shape[0]
+        now = observations["points"].float().reshape(b, -1, 2)
+        goal = observations["goal_points"].float().reshape(b, -1, 2)
+        depth = observations["goal_depths"].float().reshape(b, -1)
+        seen = (goal.norm(dim=2) > 0.5) & (observations["visible"].float() > 0.5)
+        mask = seen.float()
+        error = (now - goal) * mask[..., None]
+        size = torch.linalg.vector_norm(error.reshape(b, -1), dim=1)[:, None, None]
+        p = depth[..., None] * goal
+        dot = (p * now).sum(dim=2, keepdim=True)
+        cross = p[..., :1] * now[..., 1:] - p[..., 1:] * now[..., :1]
+        cos = (goal * now).sum(dim=2, keepdim=True)
+        sin = goal[..., :1] * now[..., 1:] - goal[..., 1:] * now[..., :1]
+        inverse = torch.where(depth > 0, 1.0 / depth.clamp_min(1e-3), 0.0)[..., None]
+        parts = [now, goal, depth[..., None], inverse, error / (size + self.eps), p, dot, cross]
+        token = torch.cat([*parts, cos, sin], dim=2)
+        return token * mask[..., None], mask
+
+    def forward(self, observations: dict[str, torch.Tensor]) -> torch.Tensor:
+        """Return the ``(B, features_dim)`` features."""
+        token, mask = self.tokens(observations)
+        encoded = self.phi(token) * mask[..., None]
+        count = mask.sum(dim=1, keepdim=True)
+        mean = encoded.sum(dim=1) / count.clamp_min(1.0)
+        # encodings are >= 0 (ReLU), so masked slots at 0 never win the max
+        peak = encoded.max(dim=1).values
+        share = count / mask.shape[1]
+        return torch.cat([super().forward(observations), mean, peak, share], dim=1)
+
+    def extra_repr(self) -> str:
+        """Return the settings, for ``print(policy)``."""
+        return f"{super().extra_repr()}, token_dim={self.token_dim}"
