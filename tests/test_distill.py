@@ -85,6 +85,26 @@ def test_error_scale_extractor_is_scale_invariant_in_direction():
     np.testing.assert_array_equal(big[0, 9:], 0.0)
 
 
+def test_angle_keys_are_continuous_across_the_wrap_and_sharp_near_zero():
+    space = spaces.Dict(
+        {"alpha_m_error": spaces.Box(-4, 4, (1,)), "c_error": spaces.Box(-2, 2, (3,))}
+    )
+    plain = ErrorScaleExtractor(space)
+    angles = ErrorScaleExtractor(space, angle_keys=["alpha_m_error"])
+    assert angles.features_dim == plain.features_dim + 1
+
+    def features(extractor, a):
+        return extractor({"alpha_m_error": torch.tensor([[a]]), "c_error": torch.ones(1, 3)})[0, :3]
+
+    below, above = np.pi - 1e-4, -np.pi + 1e-4  # the same heading, either side of the wrap
+    torch.testing.assert_close(features(angles, below), features(angles, above), atol=1e-3, rtol=0)
+    assert float(features(plain, below)[1] - features(plain, above)[1]) > 1.9  # the old jump
+    near = features(angles, 0.01)  # sin, cos, soft sign: still sharp near zero
+    assert float(near[2]) > 0.9 and float(features(angles, -0.01)[2]) < -0.9
+    with pytest.raises(ValueError, match="angle key 'c_error'"):
+        ErrorScaleExtractor(space, angle_keys=["c_error"])
+
+
 def _set_space(n: int = 5):
     return spaces.Dict(
         {
@@ -252,6 +272,7 @@ def test_dagger_is_deterministic_under_a_seed(student, tmp_path):
         ("  rouns: 3", "rouns"),
         ("  aux_weight: -1", "aux_weight"),
         ("  extractor: transformer", "transformer"),
+        ("  angle_keys: [points]", "angle_keys"),
     ],
 )
 def test_config_errors_name_the_key(tmp_path, line, match):

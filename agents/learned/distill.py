@@ -146,6 +146,7 @@ def dagger(
                     "features_extractor_kwargs": {
                         "error_keys": list(config.error_keys),
                         "point_error": config.point_error,
+                        **({"angle_keys": list(config.angle_keys)} if config.angle_keys else {}),
                     },
                 }
                 if config.error_keys or config.point_error or landmark_set

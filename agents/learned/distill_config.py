@@ -63,6 +63,9 @@ class DaggerConfig:
         its directory): its states and actions join the labels before the first round.
     point_error
         Give the network the image error ``x_n - x_n*`` too, as direction and log-size.
+    angle_keys
+        Error keys that are wrapped angles, given continuously across the wrap
+        (``angle_keys`` of :class:`agents.learned.extractors.ErrorScaleExtractor`).
     extractor
         ``error_scale`` (:class:`agents.learned.extractors.ErrorScaleExtractor`) or
         ``landmark_set`` (:class:`agents.learned.extractors.LandmarkSetExtractor`: the same
@@ -97,6 +100,7 @@ class DaggerConfig:
     error_keys: tuple[str, ...] = ERROR_KEYS
     point_error: bool = True
     extractor: str = "error_scale"
+    angle_keys: tuple[str, ...] = ()
     balance_actions: bool = True
     aux_weight: float = 1.0
     initial_dataset: str | None = None
@@ -190,6 +194,13 @@ def load_dagger_config(path: Path | str) -> DaggerConfig:
         if not isinstance(keys, list) or not all(isinstance(k, str) for k in keys):
             raise ValueError(f"{where}.error_keys must be a list of key names, got {keys!r}")
         values["error_keys"] = tuple(keys)
+    if "angle_keys" in section:
+        keys = section["angle_keys"]
+        if not isinstance(keys, list) or not all(
+            k in values.get("error_keys", ERROR_KEYS) for k in keys
+        ):
+            raise ValueError(f"{where}.angle_keys must be a list of error keys, got {keys!r}")
+        values["angle_keys"] = tuple(keys)
     if section.get("history") is not None:
         values["history"] = HistoryConfig.from_mapping(section["history"], f"{where}.history")
     config = DaggerConfig(**values, source={"file": str(path), "dagger": dict(section)})

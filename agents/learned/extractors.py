@@ -74,6 +74,12 @@ class ErrorScaleExtractor(BaseFeaturesExtractor):
         The size below which an error counts as zero (its unit: the observation's).
     point_error
         Add the image error ``x_n - x_n*`` (needs ``points``, ``goal_points``, ``visible``).
+    angle_keys
+        Scalar error keys that are angles wrapped to ``(-pi, pi]`` (``alpha_m_error``): each
+        value ``a`` is given as ``sin a``, ``cos a`` and the soft sign faded out towards
+        ``pi``, ``sin a / (|sin a| + eps) (1 + cos a) / 2``, all continuous across the wrap
+        (the plain soft sign jumps from +1 to -1 there, and a student facing away from the
+        goal heading dithers between the two). Default: none (the plain treatment).
     """
 
     def __init__(
@@ -82,10 +88,19 @@ class ErrorScaleExtractor(BaseFeaturesExtractor):
         error_keys: tuple[str, ...] | list[str] = ERROR_KEYS,
         eps: float = 1e-3,
         point_error: bool = False,
+        angle_keys: tuple[str, ...] | list[str] = (),
     ) -> None:
         self.error_keys = tuple(error_keys)
         self.eps = float(eps)
         self.point_error = bool(point_error)
+        self.angle_keys = tuple(angle_keys)
+        for key in self.angle_keys:
+            space = observation_space.spaces.get(key)
+            if key not in self.error_keys or space is None or int(np.prod(space.shape or ())) != 1:
+                raise ValueError(
+                    f"angle key {key!r} must be one of the scalar error keys {self.error_keys} "
+                    "present in the observation"
+                )
         size = 0
         if self.point_error:
             missing = sorted(set(POINT_KEYS) - set(observation_space.spaces))
@@ -96,6 +111,8 @@ class ErrorScaleExtractor(BaseFeaturesExtractor):
             n = int(np.prod(space.shape or ()))
             if error_key_of(key, self.error_keys) is None:
                 size += n
+            elif error_key_of(key, self.angle_keys) is not None:
+                size += 3
             else:
                 size += n + 1 if n > 1 else 2
         super().__init__(observation_space, features_dim=size)
@@ -119,13 +136,19 @@ class ErrorScaleExtractor(BaseFeaturesExtractor):
             elif value.shape[1] > 1:
                 size = torch.linalg.vector_norm(value, dim=1, keepdim=True)
                 parts += [value / (size + self.eps), torch.log(size + self.eps)]
+            elif error_key_of(key, self.angle_keys) is not None:
+                sin, cos = torch.sin(value), torch.cos(value)
+                parts += [sin, cos, sin / (sin.abs() + self.eps) * (1.0 + cos) / 2.0]
             else:
                 parts += [value, value / (value.abs() + self.eps)]
         return torch.cat(parts, dim=1)
 
     def extra_repr(self) -> str:
         """Return the settings, for ``print(policy)``."""
-        return f"error_keys={self.error_keys}, eps={self.eps}, point_error={self.point_error}"
+        angles = f", angle_keys={self.angle_keys}" if self.angle_keys else ""
+        return (
+            f"error_keys={self.error_keys}, eps={self.eps}, point_error={self.point_error}{angles}"
+        )
 
 
 class LandmarkSetExtractor(ErrorScaleExtractor):
@@ -155,7 +178,7 @@ class LandmarkSetExtractor(ErrorScaleExtractor):
     observation_space
         The ``Dict`` observation space (needs ``points``, ``goal_points``, ``visible`` and
         ``goal_depths``).
-    error_keys, eps, point_error
+    error_keys, eps, point_error, angle_keys
         As :class:`ErrorScaleExtractor`.
     token_dim
         Width of ``phi``'s two layers.
@@ -169,14 +192,15 @@ class LandmarkSetExtractor(ErrorScaleExtractor):
         error_keys: tuple[str, ...] | list[str] = ERROR_KEYS,
         eps: float = 1e-3,
         point_error: bool = True,
-        token_dim: int = 128,
+        token_dim: int = 64,
+        angle_keys: tuple[str, ...] | list[str] = (),
     ) -> None:
         missing = sorted(set(LANDMARK_KEYS) - set(observation_space.spaces))
         if missing:
             raise ValueError(f"LandmarkSetExtractor needs the observation keys {missing}")
         if not (isinstance(token_dim, int) and token_dim > 0):
             raise ValueError(f"token_dim must be a positive integer, got {token_dim!r}")
-        super().__init__(observation_space, error_keys, eps, point_error)
+        super().__init__(observation_space, error_keys, eps, point_error, angle_keys)
         base = self._features_dim
         self._features_dim = base + 2 * token_dim + 1
         self.token_dim = token_dim

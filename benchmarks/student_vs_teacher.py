@@ -1,0 +1,90 @@
+"""Where a distilled student departs from its teacher: action errors along its own episodes.
+
+Usage: ``python benchmarks/student_vs_teacher.py DIR [--episodes 40] [--seed 10000]``.
+
+``DIR`` is a model directory written by ``radial-ibvs distill`` (its metadata names the
+teacher and its arguments). The student drives ``--episodes`` held-out rooms (the env of its
+metadata, deterministic actions); at every step the teacher, which sees the true poses and
+the map, says what it would do in the same state. Printed: the episodes' ends, then per band
+of distance to the goal the share of the steps spent there, the mean teacher and student
+speeds and turn rates (in units of the robot's limits) and the RMS difference, and the
+share of steps where the turn has the wrong sign or less than half the teacher's size.
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import itertools
+from pathlib import Path
+
+import numpy as np
+
+from agents import load
+from agents.analytic import make_analytic
+from agents.learned.distill_config import PRIVILEGED
+from agents.learned.sb3_vec_env import make_vec_env
+
+BANDS = (0.0, 0.05, 0.15, 0.3, 0.6, 1.2, 2.5, np.inf)
+
+
+def main() -> None:
+    """Print the tables."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("model", type=Path)
+    parser.add_argument("--episodes", type=int, default=40)
+    parser.add_argument("--seed", type=int, default=10_000)
+    args = parser.parse_args()
+    student = load(args.model)
+    meta = student.metadata
+    teacher = make_analytic(meta["teacher"], **meta.get("teacher_kwargs", {}))
+    n = args.episodes
+    venv = make_vec_env(
+        meta["env_id"], n, seed=args.seed, monitor=False, **student.env_kwargs, **PRIVILEGED
+    )
+    plain = make_vec_env(meta["env_id"], 1, seed=0, monitor=False, **student.env_kwargs)
+    keys = list(plain.observation_space.spaces)  # what the student sees (no privileged keys)
+    plain.close()
+    obs = venv.reset()
+    starts = np.ones(n, dtype=bool)
+    done = np.zeros(n, dtype=bool)
+    s_state = t_state = None
+    rows: list[tuple[float, float, float, float, float]] = []
+    ends: collections.Counter[str] = collections.Counter()
+    while not done.all():
+        own = {k: obs[k] for k in keys}
+        action, s_state = student.predict(own, s_state, starts, deterministic=True)
+        label, t_state = teacher.predict(obs, t_state, starts)
+        distance = np.hypot(*(obs["goal_pose"][:, :2] - obs["robot_pose"][:, :2]).T)
+        for i in np.flatnonzero(~done):
+            rows.append((distance[i], *label[i], *action[i]))
+        obs, _, starts, infos = venv.step(action)
+        for i in np.flatnonzero(starts & ~done):
+            info = infos[i]
+            end = [k for k in ("is_success", "collision", "lost") if info.get(k)]
+            ends[end[0] if end else "timeout"] += 1
+        done |= starts
+    venv.close()
+    table = np.array(rows)
+    print(f"# {args.model}: {n} episodes from seed {args.seed}; ends: {dict(ends)}")
+    print("| distance to goal (m) | steps | teacher v, w | student v, w | RMS diff v, w |"
+          " w wrong sign | w < half |")  # fmt: skip
+    print("|---|---:|---|---|---|---:|---:|")
+    for lo, hi in itertools.pairwise(BANDS):
+        band = table[(table[:, 0] >= lo) & (table[:, 0] < hi)]
+        if not len(band):
+            continue
+        tv, tw, sv, sw = band[:, 1], band[:, 2], band[:, 3], band[:, 4]
+        turning = np.abs(tw) > 0.05
+        wrong = np.mean(np.sign(sw[turning]) != np.sign(tw[turning])) if turning.any() else 0.0
+        small = np.mean(np.abs(sw[turning]) < 0.5 * np.abs(tw[turning])) if turning.any() else 0
+        rms = np.sqrt(np.mean((band[:, 1:3] - band[:, 3:5]) ** 2, axis=0))
+        print(
+            f"| {lo:g}-{hi:g} | {len(band) / len(table):.1%} | {tv.mean():+.2f}, {tw.mean():+.2f}"
+            f" | {sv.mean():+.2f}, {sw.mean():+.2f} | {rms[0]:.3f}, {rms[1]:.3f}"
+            f" | {wrong:.0%} | {small:.0%} |"
+        )
+
+
+if __name__ == "__main__":
+    main()
