@@ -28,6 +28,10 @@ from agents.learned.sb3_vec_env import make_vec_env
 BANDS = (0.0, 0.05, 0.15, 0.3, 0.6, 1.2, 2.5, np.inf)
 
 
+def _wrap(angle: np.ndarray) -> np.ndarray:
+    return (angle + np.pi) % (2 * np.pi) - np.pi
+
+
 def main() -> None:
     """Print the tables."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -51,6 +55,7 @@ def main() -> None:
     s_state = t_state = None
     rows: list[tuple[float, float, float, float, float]] = []
     ends: collections.Counter[str] = collections.Counter()
+    stalls: list[tuple[float, float]] = []  # (distance, heading error) of stalled time-outs
     while not done.all():
         own = {k: obs[k] for k in keys}
         action, s_state = student.predict(own, s_state, starts, deterministic=True)
@@ -58,15 +63,26 @@ def main() -> None:
         distance = np.hypot(*(obs["goal_pose"][:, :2] - obs["robot_pose"][:, :2]).T)
         for i in np.flatnonzero(~done):
             rows.append((distance[i], *label[i], *action[i]))
+        heading = np.degrees(np.abs(_wrap(obs["goal_pose"][:, 2] - obs["robot_pose"][:, 2])))
         obs, _, starts, infos = venv.step(action)
         for i in np.flatnonzero(starts & ~done):
             info = infos[i]
             end = [k for k in ("is_success", "collision", "lost") if info.get(k)]
             ends[end[0] if end else "timeout"] += 1
+            still = np.abs(action[i]).max() < 0.02 and np.abs(label[i]).max() >= 0.02
+            if not end and still:
+                stalls.append((float(distance[i]), float(heading[i])))
         done |= starts
     venv.close()
     table = np.array(rows)
     print(f"# {args.model}: {n} episodes from seed {args.seed}; ends: {dict(ends)}")
+    near = [s for s in stalls if s[0] < 0.1]
+    far = [s for s in stalls if s[0] >= 0.1]
+    print(
+        f"stalled time-outs: {len(near)} within 10 cm of the goal (median heading error "
+        f"{np.median([s[1] for s in near]) if near else float('nan'):.0f} deg), {len(far)} "
+        f"farther (median distance {np.median([s[0] for s in far]) if far else float('nan'):.2f} m)"
+    )
     print("| distance to goal (m) | steps | teacher v, w | student v, w | RMS diff v, w |"
           " w wrong sign | w < half |")  # fmt: skip
     print("|---|---:|---|---|---|---:|---:|")
