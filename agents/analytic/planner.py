@@ -228,6 +228,17 @@ class MapPlanner:
         along it (the bearing is sensitive to millimetres there), metres. A teacher labelling
         states off its own path (:mod:`agents.learned.distill`) uses 0: from a state beside
         the goal it turns towards it instead of stopping there.
+    align_radius
+        ``0`` (the default): off. ``> goal_tolerance``: near the goal, on the path's last
+        segment, the command blends from the follower's (turn towards the goal, drive) into
+        the final alignment (turn towards the goal *heading*, drive along the robot's own
+        heading to the goal's foot on it), wholly the alignment within ``goal_tolerance``,
+        linearly in the distance up to ``align_radius``, metres. Every term is a continuous
+        function of the pose there (none uses the bearing to a goal millimetres away), and the
+        alignment never increases the distance to the goal. A teacher
+        (:mod:`agents.learned.distill`) uses it instead of ``final_radius``: the smooth law's
+        turn near the goal flips sign over centimetres, which an image-only student averages
+        into a stall. Exclusive with ``final_radius``.
 
     Raises
     ------
@@ -249,6 +260,7 @@ class MapPlanner:
         drive_gate: float = 0.0,
         reverse: bool = True,
         final_radius: float = 0.0,
+        align_radius: float = 0.0,
     ) -> None:
         _import_ompl()
         if isinstance(min_visible, bool) or not isinstance(min_visible, int) or min_visible < 0:
@@ -265,9 +277,16 @@ class MapPlanner:
             "hold_radius": hold_radius,
             "drive_gate": drive_gate,
             "final_radius": final_radius,
+            "align_radius": align_radius,
         }
         for name, value in values.items():
-            zero_ok = name in ("margin", "hold_radius", "drive_gate", "final_radius")
+            zero_ok = name in (
+                "margin",
+                "hold_radius",
+                "drive_gate",
+                "final_radius",
+                "align_radius",
+            )
             if not (math.isfinite(value) and value >= 0 and (value > 0 or zero_ok)):
                 raise ValueError(f"{name} must be finite and positive, got {value!r}")
         self.margin, self.gain = float(margin), float(gain)
@@ -279,6 +298,17 @@ class MapPlanner:
         self.drive_gate = float(drive_gate)
         self.reverse = bool(reverse)
         self.final_radius = float(final_radius)
+        self.align_radius = float(align_radius)
+        if self.align_radius > 0 and self.final_radius > 0:
+            raise ValueError(
+                f"align_radius ({align_radius!r}) and final_radius ({final_radius!r}) both "
+                "take over near the goal: set one of them to 0"
+            )
+        if 0 < self.align_radius <= self.goal_tolerance:
+            raise ValueError(
+                f"align_radius must exceed goal_tolerance ({goal_tolerance!r}), "
+                f"got {align_radius!r}"
+            )
         self._oracle = PoseOracle(robot=self.robot) if self.final_radius > 0 else None
         self.radius = 0.5 * math.hypot(self.robot.length, self.robot.width) + self.margin
 
@@ -345,17 +375,41 @@ class MapPlanner:
             if starts[i] or plans[i] is None:
                 plans[i] = self.make_plan(row)
             pose = np.asarray(row["robot_pose"], dtype=np.float64)
-            if self._oracle is not None and self._near_goal(plans[i], pose):
+            if self._oracle is not None and self._near_goal(plans[i], pose, self.final_radius):
                 actions[i] = self._oracle.predict(row)[0]
+            elif self.align_radius > 0 and self._near_goal(plans[i], pose, self.align_radius):
+                actions[i] = self._align(plans[i], pose)
             else:
                 actions[i] = self._follow(plans[i], pose)
         return (actions if batched else actions[0]), plans
 
-    def _near_goal(self, plan: Plan, pose: F64) -> bool:
-        """Whether the robot is within ``final_radius`` of the goal, on the last segment."""
+    def _near_goal(self, plan: Plan, pose: F64, radius: float) -> bool:
+        """Whether the robot is within ``radius`` of the goal (metres), on the last segment."""
         goal = plan.waypoints[-1]
         last = plan.index >= len(plan.waypoints) - 1
-        return last and math.hypot(goal[0] - pose[0], goal[1] - pose[1]) < self.final_radius
+        return last and math.hypot(goal[0] - pose[0], goal[1] - pose[1]) < radius
+
+    def _align(self, plan: Plan, pose: F64) -> np.ndarray:
+        """Return the blend of the drive to the goal and the final alignment (``align_radius``)."""
+        robot = self.robot
+        v_max, w_max = robot.max_linear_speed, robot.max_angular_speed
+        x, y, yaw = (float(v) for v in pose)
+        goal = plan.waypoints[-1]
+        dx, dy = float(goal[0]) - x, float(goal[1]) - y
+        distance = math.hypot(dx, dy)
+        along = dx * math.cos(yaw) + dy * math.sin(yaw)  # the goal's foot on the heading line
+        # the alignment: turn to the goal heading, drive to the foot (never farther from the goal)
+        heading = _wrap(plan.goal_yaw - yaw)
+        omega_align = math.copysign(
+            self._ramp(abs(heading), w_max, robot.max_angular_accel), heading
+        )
+        v_align = math.copysign(self._ramp(abs(along), v_max, robot.max_linear_accel), along)
+        weight = (self.align_radius - distance) / (self.align_radius - self.goal_tolerance)
+        weight = min(max(weight, 0.0), 1.0)
+        align = np.array([v_align / v_max, omega_align / w_max])
+        if weight >= 1.0:
+            return align
+        return (1.0 - weight) * self._drive(dx, dy, yaw) + weight * align
 
     def _ramp(self, distance: float, limit: float, accel: float) -> float:
         """Return the speed that stops on ``distance``: proportional, limited, ramped down."""
@@ -364,7 +418,7 @@ class MapPlanner:
     def _follow(self, plan: Plan, pose: F64) -> np.ndarray:
         """Return the turn-drive-turn command towards the next waypoint (action units)."""
         robot = self.robot
-        v_max, w_max = robot.max_linear_speed, robot.max_angular_speed
+        w_max = robot.max_angular_speed
         x, y, yaw = (float(v) for v in pose)
         while plan.index < len(plan.waypoints):
             target = plan.waypoints[plan.index]
@@ -379,6 +433,13 @@ class MapPlanner:
             error = _wrap(plan.goal_yaw - yaw)
             omega = math.copysign(self._ramp(abs(error), w_max, robot.max_angular_accel), error)
             return np.array([0.0, omega / w_max])
+        return self._drive(dx, dy, yaw)
+
+    def _drive(self, dx: float, dy: float, yaw: float) -> np.ndarray:
+        """Return the command towards a waypoint ``(dx, dy)`` metres away (action units)."""
+        robot = self.robot
+        v_max, w_max = robot.max_linear_speed, robot.max_angular_speed
+        distance = math.hypot(dx, dy)
         bearing = math.atan2(dy, dx)
         forward, backward = _wrap(bearing - yaw), _wrap(bearing + math.pi - yaw)
         backwards = self.reverse and abs(backward) < abs(forward)

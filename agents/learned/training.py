@@ -32,6 +32,7 @@ from stable_baselines3.common.vec_env import VecNormalize
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from agents.io import write_json
 from agents.learned.curriculum import StartReachCurriculum
+from agents.learned.fine_tune import CriticWarmup
 from agents.learned.history import HistoryConfig, history_vec_env
 from agents.learned.model_files import (
     DESCRIPTION,
@@ -311,6 +312,11 @@ def train(
     )
     if config.residual is not None:
         venv, eval_env = (ResidualVecEnv(v, config.residual) for v in (venv, eval_env))
+    if config.fine_tune is not None and init_from is None:
+        raise ValueError(
+            f"{config.source.get('file', 'the config')}: fine_tune starts from a student; "
+            "give init_from (--init-from DIR)"
+        )
     init = _FineTune.read(Path(init_from), algo) if init_from is not None else None
     if init is not None and init.history is not None:
         venv, eval_env = (history_vec_env(v, init.history) for v in (venv, eval_env))
@@ -329,6 +335,8 @@ def train(
     )
     if init is not None:
         init.apply(model, venv)
+        if config.fine_tune is not None:
+            config.fine_tune.apply(model.policy)
     if resume is not None:
         _resume(model, venv, Path(resume))
     formats = ["csv"] + (["tensorboard"] if importlib.util.find_spec("tensorboard") else [])
@@ -351,6 +359,8 @@ def train(
         save_path=str(out / "checkpoints"),
     )
     callbacks: list[BaseCallback] = [evaluation, checkpoints]
+    if init is not None and config.fine_tune is not None and config.fine_tune.critic_warmup:
+        callbacks.append(CriticWarmup(config.fine_tune.critic_warmup))
     if config.curriculum is not None:
         total = steps + (model.num_timesteps if resume is not None else 0)
         callbacks.append(StartReachCurriculum(config.curriculum, total))
@@ -380,6 +390,7 @@ def train(
         **({"curriculum": config.curriculum.as_dict()} if config.curriculum else {}),
         **({"history": init.history.as_dict()} if init and init.history else {}),
         **({"init_from": str(init_from)} if init_from is not None else {}),
+        **({"fine_tune": config.fine_tune.as_dict()} if init and config.fine_tune else {}),
         "total_timesteps": int(model.num_timesteps),
         "command": command or " ".join(sys.argv),
         "config": _jsonable(config.source),

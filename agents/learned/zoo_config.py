@@ -16,6 +16,7 @@ from pathlib import Path
 from typing import Any
 
 from agents.learned.curriculum import CurriculumConfig
+from agents.learned.fine_tune import FineTuneConfig
 from agents.learned.residual import ResidualConfig
 from radial_ibvs_gym.config import read_yaml
 
@@ -23,7 +24,9 @@ __all__ = ["TrainConfig", "load_train_config", "parse_kwargs_string"]
 
 #: rl-zoo3's keys that are not the algorithm's keyword arguments
 _ZOO_KEYS = {"n_envs", "n_timesteps", "policy", "normalize", "policy_kwargs", "env_wrapper"}
-_META_KEYS = {"env_kwargs", "eval_freq", "eval_episodes", "eval_seed", "residual", "curriculum"}
+_META_KEYS = {
+    "env_kwargs", "eval_freq", "eval_episodes", "eval_seed", "residual", "curriculum", "fine_tune",
+}  # fmt: skip
 
 
 @dataclass(frozen=True)
@@ -57,6 +60,9 @@ class TrainConfig:
     curriculum
         A reverse curriculum on the training envs' ``start_reach``
         (:class:`agents.learned.curriculum.CurriculumConfig`), or ``None``.
+    fine_tune
+        How a fine-tuning from a student starts (:class:`agents.learned.fine_tune.
+        FineTuneConfig`), or ``None``; used only with ``init_from``.
     source
         The file and section it came from, and the raw section (for the model's metadata).
     """
@@ -74,6 +80,7 @@ class TrainConfig:
     eval_seed: int = 10_000
     residual: ResidualConfig | None = None
     curriculum: CurriculumConfig | None = None
+    fine_tune: FineTuneConfig | None = None
     source: dict[str, Any] = field(default_factory=dict)
 
 
@@ -258,6 +265,11 @@ def load_train_config(path: Path | str, env_id: str | None = None) -> TrainConfi
         if meta.get("curriculum") is None
         else CurriculumConfig.from_mapping(
             meta["curriculum"], f"{path.name}[radial_ibvs_gym].curriculum"
+        ),
+        fine_tune=None
+        if meta.get("fine_tune") is None
+        else FineTuneConfig.from_mapping(
+            meta["fine_tune"], f"{path.name}[radial_ibvs_gym].fine_tune"
         ),
         source={"file": str(path), "env_id": env_id, "section": section, "meta": meta},
     )
