@@ -346,3 +346,86 @@ def test_every_shipped_agent_config_loads():
             assert config.teacher == "planner"
         else:
             load_train_config(path)
+
+
+def _fine_tune_config(tmp_path, extra: str) -> object:
+    from agents.learned.zoo_config import load_train_config
+
+    path = tmp_path / "ppo.yaml"
+    path.write_text(
+        "RadialIBVS/Parking-v0:\n  n_envs: 4\n  policy: MultiInputPolicy\n"
+        '  normalize: "dict(norm_obs=True, norm_reward=True, gamma=0.99)"\n'
+        "  n_steps: 16\n  batch_size: 32\n  n_epochs: 2\n  learning_rate: 0.001\n"
+        f"radial_ibvs_gym:\n  env_kwargs: {json.dumps(ENV)}\n  eval_freq: 1000000\n"
+        f"  eval_episodes: 1\n{extra}"
+    )
+    return load_train_config(path)
+
+
+def test_fine_tuning_sets_the_noise_and_trains_the_critic_alone_first(student, tmp_path):
+    """fine_tune.log_std sets the exploration noise; during critic_warmup the actor's weights
+    (and the features it shares with the critic) stay bit for bit the student's, the critic's
+    move."""
+    from agents.learned.fine_tune import critic_parameters
+    from agents.learned.loading import load_policy
+    from agents.learned.training import train
+
+    _, out = student
+    config = _fine_tune_config(tmp_path, "  fine_tune: {log_std: -2.0, critic_warmup: 128}\n")
+    tuned_dir = train(
+        config, tmp_path / "tuned", total_timesteps=128, init_from=out, progress=False
+    )
+    tuned, _ = load_policy(tuned_dir)
+    original, _ = load_policy(out)
+    critic = critic_parameters(tuned)
+    assert critic and "log_std" not in critic
+    before = dict(original.named_parameters())
+    for name, parameter in tuned.named_parameters():
+        if name == "log_std":
+            assert torch.all(parameter == -2.0)
+        elif name in critic:
+            continue
+        else:
+            assert torch.equal(parameter, before[name]), name
+    assert any(not torch.equal(p, before[n]) for n, p in tuned.named_parameters() if n in critic)
+    assert load(tuned_dir).metadata["fine_tune"] == {"log_std": -2.0, "critic_warmup": 128}
+
+
+def test_after_the_warmup_the_actor_learns(student, tmp_path):
+    from agents.learned.loading import load_policy
+    from agents.learned.training import train
+
+    _, out = student
+    config = _fine_tune_config(tmp_path, "  fine_tune: {critic_warmup: 64}\n")
+    tuned_dir = train(
+        config, tmp_path / "tuned", total_timesteps=192, init_from=out, progress=False
+    )
+    tuned, _ = load_policy(tuned_dir)
+    original, _ = load_policy(out)
+    before = dict(original.named_parameters())
+    moved = [n for n, p in tuned.named_parameters() if not torch.equal(p, before[n])]
+    assert any(n.startswith("mlp_extractor.policy_net") for n in moved)
+    assert all(p.requires_grad for p in tuned.parameters())
+
+
+@pytest.mark.parametrize(
+    ("fine_tune", "match"),
+    [
+        ("{log_std: nan}", "log_std must be a number"),
+        ("{log_std: 5}", "log_std must be a number"),
+        ("{critic_warmup: -1}", "critic_warmup must be an integer"),
+        ("{noise: 1}", r"unknown key\(s\) \['noise'\]"),
+        ("3", "must be a mapping"),
+    ],
+)
+def test_fine_tune_errors_name_the_value(tmp_path, fine_tune, match):
+    with pytest.raises(ValueError, match=match):
+        _fine_tune_config(tmp_path, f"  fine_tune: {fine_tune}\n")
+
+
+def test_fine_tune_without_a_student_is_refused(tmp_path):
+    from agents.learned.training import train
+
+    config = _fine_tune_config(tmp_path, "  fine_tune: {log_std: -2.0}\n")
+    with pytest.raises(ValueError, match="fine_tune starts from a student"):
+        train(config, tmp_path / "run", total_timesteps=64, progress=False)

@@ -132,6 +132,23 @@ def plan_path(
     ends = np.stack([start, goal])
     if not _free(ends, room, obstacles, radius, view):
         return None
+    path = _ompl_path(start, goal, room, obstacles, radius, 0.0, view, time_limit_s)
+    if path is None:  # OMPL checks states every 5 mm: its path may graze; plan with a margin
+        path = _ompl_path(start, goal, room, obstacles, radius, 0.01, view, time_limit_s)
+    return path
+
+
+def _ompl_path(
+    start: F64,
+    goal: F64,
+    room: F64,
+    obstacles: F64,
+    radius: float,
+    clearance: float,
+    view: Visibility,
+    time_limit_s: float,
+) -> F64 | None:
+    """Plan with OMPL for a disc of ``radius + clearance``; check each segment at ``radius``."""
     ob, og, ou = _import_ompl()
     ou.setLogLevel(ou.LogLevel.LOG_NONE)
     # the episode's own seed: the same map, start and goal give the same plan in any process
@@ -146,7 +163,7 @@ def plan_path(
     space.setBounds(bounds)
     setup = og.SimpleSetup(space)
     setup.setStateValidityChecker(
-        lambda s: _free(np.array([[s.getX(), s.getY()]]), room, obstacles, radius, view)
+        lambda s: _free(np.array([[s.getX(), s.getY()]]), room, obstacles, radius + clearance, view)
     )
     setup.getSpaceInformation().setStateValidityCheckingResolution(0.005)
     begin, end = space.allocState(), space.allocState()
@@ -233,8 +250,10 @@ class MapPlanner:
         segment, the command blends from the follower's (turn towards the goal, drive) into
         the final alignment (turn towards the goal *heading*, drive along the robot's own
         heading to the goal's foot on it), wholly the alignment within ``goal_tolerance``,
-        linearly in the distance up to ``align_radius``, metres. Every term is a continuous
-        function of the pose there (none uses the bearing to a goal millimetres away), and the
+        linearly in the distance up to ``align_radius``, metres. The command is a continuous
+        function of the pose there (the alignment uses no bearing to a goal millimetres
+        away), but where the goal lies dead behind the robot beyond ``goal_tolerance`` (the
+        forwards-only drive's turn flips sign there, while the alignment backs up), and the
         alignment never increases the distance to the goal. A teacher
         (:mod:`agents.learned.distill`) uses it instead of ``final_radius``: the smooth law's
         turn near the goal flips sign over centimetres, which an image-only student averages
