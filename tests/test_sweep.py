@@ -139,3 +139,40 @@ def test_the_bootstrap_is_stratified_by_task() -> None:
 def test_bad_statistics_input_is_named(scores, kwargs, match) -> None:
     with pytest.raises(ValueError, match=match):
         iqm_interval(scores, **kwargs)
+
+
+DAGGER_TINY = """
+dagger:
+  env_kwargs: {scenario: random, physics: kinematic, obs_mode: features, goal_depths: true,
+               max_landmarks: 16}
+  teacher_kwargs: {goal_tolerance: 0.015, waypoint_tolerance: 0.1, hold_radius: 0.0,
+                   drive_gate: 1.57, reverse: false, align_radius: 0.04}
+  n_envs: 8
+  rounds: 2
+  steps_per_round: 256
+  updates_per_round: 5
+  batch_size: 64
+  dataset_size: 2000
+  net_arch: [32]
+  eval_episodes: 2
+"""
+
+
+def test_a_dagger_config_sweeps_as_distill_does(tmp_path: Path) -> None:
+    """A config with a ``dagger:`` section trains each seed as ``radial-ibvs distill``; the
+    summary takes each student's kept round."""
+    config = tmp_path / "dagger.yaml"
+    config.write_text(DAGGER_TINY)
+    out = tmp_path / "sweep"
+    assert main(["sweep", "--config", str(config), "--seeds", "0", "1", "--out", str(out),
+                 "--no-progress"]) == 0  # fmt: skip
+    summary = json.loads((out / "summary.json").read_text())
+    for seed in (0, 1):
+        metadata = json.loads((out / f"seed-{seed}" / "metadata.json").read_text())
+        assert metadata["trained_by"] == "dagger" and metadata["seed"] == seed
+        assert (out / f"seed-{seed}" / "rounds" / "round_1").is_dir()
+        kept = metadata["learning_curve"][metadata["best_round"]]["success_rate"]
+        assert summary["final_success"][str(seed)] == kept
+    assert (out / "learning_curves.png").stat().st_size > 1000
+    with pytest.raises(ValueError, match=r"DAgger config: it takes no \['total_timesteps'\]"):
+        sweep.run_sweep(config, [0], out, total_timesteps=100)

@@ -1,7 +1,8 @@
 """``radial-ibvs sweep``: one training run per seed, locally or on Ray, and a summary across seeds.
 
-Each seed trains as ``radial-ibvs train`` does, into ``<out>/seed-<s>/`` (the same model
-directory and metadata). A seed whose directory holds ``metadata.json`` is done: a rerun
+Each seed trains as ``radial-ibvs train`` does (as ``radial-ibvs distill`` does for a DAgger
+config, one with a ``dagger:`` section), into ``<out>/seed-<s>/`` (the same model directory and
+metadata). A seed whose directory holds ``metadata.json`` is done: a rerun
 with the same ``--out`` skips it and says so; a seed stopped half-way is trained again (a
 stop loses at most the seeds in flight). The runs happen in a scratch directory and come back
 as one archive, so Ray workers on other machines need no shared file system.
@@ -49,10 +50,20 @@ class SeedRun:
     progress: bool = False
 
 
+def is_dagger_config(path: Path) -> bool:
+    """Whether the YAML file at ``path`` is a DAgger config (it has a ``dagger:`` section)."""
+    from radial_ibvs_gym.config import read_yaml
+
+    data = read_yaml(path)
+    return isinstance(data, dict) and "dagger" in data
+
+
 def _train_seed(run: SeedRun) -> bytes:
     """Train one seed in a scratch directory; return the model directory as a zip archive."""
     import torch
 
+    from agents.learned.distill import dagger
+    from agents.learned.distill_config import load_dagger_config
     from agents.learned.training import train
     from agents.learned.zoo_config import load_train_config
 
@@ -60,17 +71,20 @@ def _train_seed(run: SeedRun) -> bytes:
     with tempfile.TemporaryDirectory() as scratch:
         config_path = Path(scratch) / run.config_name
         config_path.write_text(run.config_text)
-        config = load_train_config(config_path, run.env_id)
         model_dir = Path(scratch) / "model"
-        train(
-            config,
-            model_dir,
-            algo=run.algo,
-            seed=run.seed,
-            total_timesteps=run.total_timesteps,
-            progress=run.progress,
-            command=run.command,
-        )
+        if is_dagger_config(config_path):
+            config = load_dagger_config(config_path)
+            dagger(config, model_dir, seed=run.seed, progress=run.progress, command=run.command)
+        else:
+            train(
+                load_train_config(config_path, run.env_id),
+                model_dir,
+                algo=run.algo,
+                seed=run.seed,
+                total_timesteps=run.total_timesteps,
+                progress=run.progress,
+                command=run.command,
+            )
         buffer = io.BytesIO()
         with zipfile.ZipFile(buffer, "w", zipfile.ZIP_DEFLATED) as archive:
             for path in sorted(model_dir.rglob("*")):
@@ -109,8 +123,10 @@ def run_sweep(
     Parameters
     ----------
     config
-        The training config (:func:`agents.learned.zoo_config.load_train_config`; validated here
-        first).
+        The training config (:func:`agents.learned.zoo_config.load_train_config`), or a DAgger
+        config (:func:`agents.learned.distill_config.load_dagger_config`; its students train
+        as ``radial-ibvs distill`` does, and ``algo``, ``env_id`` and ``total_timesteps`` must
+        be left at their defaults); validated here first.
     seeds
         Training seeds (distinct).
     out
@@ -139,11 +155,21 @@ def run_sweep(
     ValueError
         For a bad config, repeated seeds, an unknown backend or algo, or Ray missing.
     """
+    from agents.learned.distill_config import load_dagger_config
     from agents.learned.training import ALGOS
     from agents.learned.zoo_config import load_train_config
 
     config_path = Path(config)
-    load_train_config(config_path, env_id)  # fail early, naming the bad value
+    if not config_path.is_file():
+        raise ValueError(f"config file {str(config_path)!r} not found")
+    if is_dagger_config(config_path):
+        load_dagger_config(config_path)  # fail early, naming the bad value
+        given = {"algo": algo != "ppo", "env_id": env_id, "total_timesteps": total_timesteps}
+        if any(v for v in given.values()):
+            wrong = [k for k, v in given.items() if v]
+            raise ValueError(f"{config_path.name} is a DAgger config: it takes no {wrong}")
+    else:
+        load_train_config(config_path, env_id)  # fail early, naming the bad value
     if algo not in ALGOS:
         raise ValueError(f"unknown algo {algo!r}; valid: {sorted(ALGOS)}")
     if not seeds:
@@ -175,8 +201,12 @@ def run_sweep(
 
 
 def _final_success(metadata: dict[str, Any]) -> float:
+    """Return the last evaluation's success (a DAgger student's: that of its kept round)."""
     curve = metadata.get("learning_curve") or []
     rates = [row["success_rate"] for row in curve if "success_rate" in row]
+    kept = metadata.get("best_round")
+    if isinstance(kept, int) and 0 <= kept < len(rates):
+        return float(rates[kept])
     return float(rates[-1]) if rates else math.nan
 
 
@@ -193,7 +223,8 @@ def summarise_sweep(out: Path | str, seeds: Sequence[int] | None = None) -> dict
     Returns
     -------
     dict
-        ``seeds``, ``final_success`` (per seed, the last held-out evaluation),
+        ``seeds``, ``final_success`` (per seed, the last held-out evaluation; a DAgger
+        student's: that of the round kept),
         ``success_iqm``, ``success_ci95`` (stratified bootstrap), ``mean_success``,
         ``total_timesteps``, ``wall_clock_s``; also written as ``summary.json`` and
         ``summary.md``, with ``learning_curves.png``.
