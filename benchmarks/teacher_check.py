@@ -1,0 +1,85 @@
+"""How well a DAgger teacher parks from its own states, and from states a student would visit.
+
+Usage::
+
+    python benchmarks/teacher_check.py configs/agents/dagger_planner_set_align.yaml \
+        [--episodes 64] [--seed 10000] [--perturb 0.0 0.02]
+
+Runs the config's teacher (its ``teacher`` and ``teacher_kwargs``) in the config's env with the
+privileged observation, on validation seeds. With ``--perturb p`` each robot, at each step with
+probability ``p``, drives a random command for 10 steps (uniform in the action box, seeded),
+then the teacher takes over again from wherever it is: a crude stand-in for a student's
+mistakes, which DAgger asks the teacher to label. Prints how the episodes end, the median
+episode length, and how far from the goal the time-outs stopped.
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+from pathlib import Path
+
+import numpy as np
+
+from agents.analytic import make_analytic
+from agents.learned.distill_config import PRIVILEGED, load_dagger_config
+from agents.learned.sb3_vec_env import make_vec_env
+
+BURST = 10  # steps of a random command
+
+
+def run(config_path: Path, episodes: int, seed: int, perturb: float) -> str:
+    """Return one line: the ends of ``episodes`` teacher episodes under ``perturb``."""
+    config = load_dagger_config(config_path)
+    teacher = make_analytic(config.teacher, **config.teacher_kwargs)
+    venv = make_vec_env(
+        config.env_id, episodes, seed=seed, monitor=False, **config.env_kwargs, **PRIVILEGED
+    )
+    rng = np.random.default_rng(seed)
+    obs = venv.reset()
+    starts, done = np.ones(episodes, dtype=bool), np.zeros(episodes, dtype=bool)
+    state = None
+    burst, command = np.zeros(episodes, dtype=int), np.zeros((episodes, 2), dtype=np.float32)
+    steps = np.zeros(episodes)
+    ends: collections.Counter[str] = collections.Counter()
+    stopped: list[float] = []
+    while not done.all():
+        action, state = teacher.predict(obs, state, starts)
+        new = (burst == 0) & (rng.random(episodes) < perturb)
+        command[new] = rng.uniform(-1.0, 1.0, (int(new.sum()), 2))
+        burst[new] = BURST
+        action = np.where((burst > 0)[:, None], command, action)
+        burst = np.maximum(burst - 1, 0)
+        distance = np.hypot(*(obs["goal_pose"][:, :2] - obs["robot_pose"][:, :2]).T)
+        obs, _, starts, infos = venv.step(action)
+        steps += ~done
+        for i in np.flatnonzero(starts & ~done):
+            end = [k for k in ("is_success", "collision", "lost") if infos[i].get(k)]
+            ends[end[0] if end else "timeout"] += 1
+            if not end:
+                stopped.append(float(distance[i]))
+        done |= starts
+    venv.close()
+    away = f", time-outs at {np.round(sorted(stopped), 3).tolist()} m" if stopped else ""
+    return (
+        f"| {config_path.name} | {perturb:g} | {dict(ends)} | {np.median(steps):.0f} steps{away} |"
+    )
+
+
+def main() -> None:
+    """Print one row per perturbation."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("config", type=Path, nargs="+", help="DAgger config(s)")
+    parser.add_argument("--episodes", type=int, default=64)
+    parser.add_argument("--seed", type=int, default=10_000)
+    parser.add_argument("--perturb", type=float, nargs="+", default=[0.0, 0.02])
+    args = parser.parse_args()
+    print("| config | perturbation | ends | median length |")
+    print("|---|---:|---|---|")
+    for path in args.config:
+        for p in args.perturb:
+            print(run(path, args.episodes, args.seed, p), flush=True)
+
+
+if __name__ == "__main__":
+    main()
