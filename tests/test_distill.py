@@ -271,6 +271,8 @@ def test_dagger_is_deterministic_under_a_seed(student, tmp_path):
         ("  net_arch: [64, -1]", "net_arch"),
         ("  rouns: 3", "rouns"),
         ("  aux_weight: -1", "aux_weight"),
+        ("  relative_floor: -0.1", "relative_floor"),
+        ("  relative_floor: true", "relative_floor"),
         ("  extractor: transformer", "transformer"),
         ("  angle_keys: [points]", "angle_keys"),
     ],
@@ -429,3 +431,19 @@ def test_fine_tune_without_a_student_is_refused(tmp_path):
     config = _fine_tune_config(tmp_path, "  fine_tune: {log_std: -2.0}\n")
     with pytest.raises(ValueError, match="fine_tune starts from a student"):
         train(config, tmp_path / "run", total_timesteps=64, progress=False)
+
+
+def test_the_relative_loss_weighs_a_small_labels_error_as_a_large_ones():
+    """With relative_floor, missing a label of 0.02 by 0.01 costs what missing a label of 1 by
+    0.5 does (about); the plain loss makes the first 2,500 times cheaper."""
+    from agents.learned.distill import action_loss
+
+    labels = torch.tensor([[0.02, 1.0]])
+    small_miss = torch.tensor([[0.03, 1.0]])
+    large_miss = torch.tensor([[0.02, 1.5]])
+    ones = torch.ones(2)
+    plain = [float(action_loss(a, labels, ones)) for a in (small_miss, large_miss)]
+    assert plain[1] / plain[0] == pytest.approx(2500.0)
+    relative = [float(action_loss(a, labels, ones, 1e-3)) for a in (small_miss, large_miss)]
+    assert relative[0] / relative[1] == pytest.approx(1.0, rel=0.1)
+    assert float(action_loss(labels, labels, ones, 0.05)) == 0.0

@@ -328,6 +328,25 @@ def goal_in_robot_frame(obs: Mapping[str, np.ndarray]) -> np.ndarray:
     return out.astype(np.float32)
 
 
+def action_loss(actions: Any, labels: Any, weights: Any, relative_floor: float = 0.0) -> Any:
+    """Return the student's loss: the mean weighted squared error of its actions (torch).
+
+    Parameters
+    ----------
+    actions, labels
+        ``(B, 2)`` tensors: the student's mean actions and the teacher's labels.
+    weights
+        ``(2,)`` weight of each action component.
+    relative_floor
+        ``0``: the squared error. ``> 0``: the squared relative error, each error divided by
+        ``|label| + relative_floor`` (``DaggerConfig.relative_floor``).
+    """
+    error = actions - labels
+    if relative_floor > 0:  # small labels fit as closely, relatively, as large ones
+        error = error / (labels.abs() + relative_floor)
+    return (error**2 * weights).mean()
+
+
 def _fit(
     policy: Any,
     aux_head: Any,
@@ -350,7 +369,9 @@ def _fit(
         features = policy.extract_features(tensors, policy.pi_features_extractor)
         latent = policy.mlp_extractor.forward_actor(features)
         targets = torch.as_tensor(labels)
-        loss = torch.mean((policy.action_net(latent) - targets[:, :2]) ** 2 * weights)
+        loss = action_loss(
+            policy.action_net(latent), targets[:, :2], weights, config.relative_floor
+        )
         if config.aux_weight > 0:
             aux = torch.mean((aux_head(latent) - targets[:, 2:]) ** 2)
             loss = loss + config.aux_weight * aux

@@ -74,6 +74,13 @@ class DaggerConfig:
         Weight each action component's squared error by the inverse of its label variance
         (the turn labels vary about 7 times less than the speed labels, and an unweighted fit
         shrinks the turns: students that circle the goal).
+    relative_floor
+        ``0`` (the default): the squared error of each action component. ``> 0``: the
+        squared *relative* error, ``((a - label) / (|label| + relative_floor))^2``, so a
+        label of a few hundredths (the teacher's final alignment near the goal: 10 deg of
+        heading is a turn of 0.07 of the action range) is fit as closely, relatively, as a
+        label of one far from it (an absolute fit leaves errors of about 0.05 everywhere, the
+        size of those labels: the student stood still at the goal).
     aux_weight
         Weight of the auxiliary loss (the goal's pose in the robot frame, predicted from the
         actor's last hidden layer by a head used in training only; 0: none).
@@ -103,6 +110,7 @@ class DaggerConfig:
     angle_keys: tuple[str, ...] = ()
     balance_actions: bool = True
     aux_weight: float = 1.0
+    relative_floor: float = 0.0
     initial_dataset: str | None = None
     eval_episodes: int = 100
     eval_seed: int = 10_000
@@ -151,11 +159,16 @@ def load_dagger_config(path: Path | str) -> DaggerConfig:
             if not isinstance(section[key], bool):
                 raise ValueError(f"{where}.{key} must be true or false, got {section[key]!r}")
             values[key] = section[key]
-    if "aux_weight" in section:
-        value = section["aux_weight"]
-        if not isinstance(value, int | float) or not (math.isfinite(value) and value >= 0):
-            raise ValueError(f"{where}.aux_weight must be a number >= 0, got {value!r}")
-        values["aux_weight"] = float(value)
+    for key in ("aux_weight", "relative_floor"):
+        if key in section:
+            value = section[key]
+            if (
+                isinstance(value, bool)
+                or not isinstance(value, int | float)
+                or not (math.isfinite(value) and value >= 0)
+            ):
+                raise ValueError(f"{where}.{key} must be a number >= 0, got {value!r}")
+            values[key] = float(value)
     if "learning_rate" in section:
         value = section["learning_rate"]
         if not isinstance(value, int | float) or not (math.isfinite(value) and value > 0):
