@@ -447,3 +447,27 @@ def test_the_relative_loss_weighs_a_small_labels_error_as_a_large_ones():
     relative = [float(action_loss(a, labels, ones, 1e-3)) for a in (small_miss, large_miss)]
     assert relative[0] / relative[1] == pytest.approx(1.0, rel=0.1)
     assert float(action_loss(labels, labels, ones, 0.05)) == 0.0
+
+
+def test_an_exported_student_ships_as_an_sb3_ppo_model(student, tmp_path):
+    """export_model ships a student with its kept round noted, and a stable-baselines3 PPO
+    model.zip (for SB3 users; agents.load never reads it) that acts as agents.load's policy."""
+    from stable_baselines3 import PPO
+
+    from agents.learned.loading import load_policy
+    from agents.learned.training import export_model
+
+    _, out = student
+    shipped = export_model(out, tmp_path / "ppo-student")
+    meta = json.loads((shipped / "metadata.json").read_text())
+    assert meta["shipped"].startswith(f"round {meta['best_round']}:")
+    policy, _ = load_policy(shipped)
+    model = PPO.load(shipped / "model.zip", device="cpu")  # our own file: a test may unpickle
+    obs = {
+        k: np.stack([v.sample() for _ in range(4)])
+        for k, v in policy.observation_space.spaces.items()
+    }
+    ours, _ = policy.predict(obs, deterministic=True)
+    theirs, _ = model.predict(obs, deterministic=True)
+    np.testing.assert_array_equal(ours, theirs)
+    assert isinstance(model, PPO) and load(shipped).metadata["best_round"] == meta["best_round"]

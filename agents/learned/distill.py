@@ -133,7 +133,7 @@ def dagger(
     landmark_set = config.extractor == "landmark_set"
     model = PPO(
         "MultiInputPolicy",
-        _spaces_env(student_space, venv.action_space),
+        spaces_env(student_space, venv.action_space),
         seed=seed,
         device="cpu",
         policy_kwargs={
@@ -262,7 +262,7 @@ def dagger(
     return out
 
 
-def _spaces_env(observation_space: Any, action_space: Any) -> Any:
+def spaces_env(observation_space: Any, action_space: Any) -> Any:
     """Return a ``VecEnv`` with just the spaces SB3 needs to build a policy (never stepped)."""
     import gymnasium as gym
     from stable_baselines3.common.vec_env import DummyVecEnv
@@ -413,7 +413,7 @@ def _vec_normalize(
     from stable_baselines3.common.vec_env import VecNormalize
 
     venv = VecNormalize(
-        _spaces_env(space, action_space),
+        spaces_env(space, action_space),
         norm_obs=True,
         norm_obs_keys=list(rms),
         norm_reward=False,

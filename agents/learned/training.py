@@ -413,6 +413,23 @@ def train(
     return out
 
 
+def _write_sb3_zip(folder: Path, path: Path) -> None:
+    """Write a stable-baselines3 PPO ``model.zip`` holding the policy of ``folder``."""
+    from agents.learned.distill import spaces_env
+
+    policy, _ = load_policy(folder)
+    params = policy._get_constructor_parameters()
+    kwargs = {
+        k: v
+        for k, v in params.items()
+        if k not in ("observation_space", "action_space", "lr_schedule", "use_sde")
+    }
+    env = spaces_env(params["observation_space"], params["action_space"])
+    model = ALGOS["ppo"](type(policy), env, policy_kwargs=kwargs, device="cpu", verbose=0)
+    model.policy.load_state_dict(policy.state_dict())
+    model.save(path)
+
+
 def _learning_curve(path: Path) -> list[dict[str, float]]:
     """Read the evaluations over training: timesteps, mean return, success rate."""
     if not path.is_file():
@@ -492,10 +509,16 @@ def export_model(
         if (folder / name).is_file():
             shutil.copy(folder / name, out / name)
     zip_path = src / "best" / "best_model.zip" if use_best else src / "model.zip"
+    metadata = json.loads((src / "metadata.json").read_text())
     if zip_path.is_file():  # for SB3 users; agents.load never reads it
         shutil.copy(zip_path, out / "model.zip")
-    metadata = json.loads((src / "metadata.json").read_text())
+    elif metadata.get("algo") == "ppo":  # e.g. a DAgger student: built from its weights
+        _write_sb3_zip(folder, out / "model.zip")
     metadata["shipped"] = "best model of the held-out evaluations" if use_best else "last model"
+    if metadata.get("trained_by") == "dagger":
+        metadata["shipped"] = (
+            f"round {metadata['best_round']}: the best of the per-round evaluations"
+        )
     if use_best and metadata.get("learning_curve"):
         top = max(metadata["learning_curve"], key=lambda r: r["mean_return"])
         metadata["shipped_at_timesteps"] = top["timesteps"]
