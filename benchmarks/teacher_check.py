@@ -10,7 +10,8 @@ privileged observation, on validation seeds. With ``--perturb p`` each robot, at
 probability ``p``, drives a random command for 10 steps (uniform in the action box, seeded),
 then the teacher takes over again from wherever it is: a crude stand-in for a student's
 mistakes, which DAgger asks the teacher to label. Prints how the episodes end, the median
-episode length, and how far from the goal the time-outs stopped.
+episode length, the median heading error (to the goal heading) when a robot first comes
+within 5 cm of the goal, and how far from the goal the time-outs stopped.
 """
 
 from __future__ import annotations
@@ -43,6 +44,7 @@ def run(config_path: Path, episodes: int, seed: int, perturb: float) -> str:
     steps = np.zeros(episodes)
     ends: collections.Counter[str] = collections.Counter()
     stopped: list[float] = []
+    arrival = np.full(episodes, np.nan)  # heading error when first within 5 cm of the goal
     while not done.all():
         action, state = teacher.predict(obs, state, starts)
         new = (burst == 0) & (rng.random(episodes) < perturb)
@@ -51,6 +53,11 @@ def run(config_path: Path, episodes: int, seed: int, perturb: float) -> str:
         action = np.where((burst > 0)[:, None], command, action)
         burst = np.maximum(burst - 1, 0)
         distance = np.hypot(*(obs["goal_pose"][:, :2] - obs["robot_pose"][:, :2]).T)
+        heading = np.abs(
+            (obs["goal_pose"][:, 2] - obs["robot_pose"][:, 2] + np.pi) % (2 * np.pi) - np.pi
+        )
+        first = ~done & np.isnan(arrival) & (distance < 0.05)
+        arrival[first] = np.degrees(heading[first])
         obs, _, starts, infos = venv.step(action)
         steps += ~done
         for i in np.flatnonzero(starts & ~done):
@@ -62,7 +69,8 @@ def run(config_path: Path, episodes: int, seed: int, perturb: float) -> str:
     venv.close()
     away = f", time-outs at {np.round(sorted(stopped), 3).tolist()} m" if stopped else ""
     return (
-        f"| {config_path.name} | {perturb:g} | {dict(ends)} | {np.median(steps):.0f} steps{away} |"
+        f"| {config_path.name} | {perturb:g} | {dict(ends)} | {np.median(steps):.0f} steps{away}"
+        f" | {np.nanmedian(arrival):.0f} deg |"
     )
 
 
@@ -74,8 +82,8 @@ def main() -> None:
     parser.add_argument("--seed", type=int, default=10_000)
     parser.add_argument("--perturb", type=float, nargs="+", default=[0.0, 0.02])
     args = parser.parse_args()
-    print("| config | perturbation | ends | median length |")
-    print("|---|---:|---|---|")
+    print("| config | perturbation | ends | median length | heading error at 5 cm |")
+    print("|---|---:|---|---|---:|")
     for path in args.config:
         for p in args.perturb:
             print(run(path, args.episodes, args.seed, p), flush=True)

@@ -226,8 +226,46 @@ def test_the_aligning_teacher_parks_and_hands_over_near_the_goal() -> None:
         ({"align_radius": 0.04, "final_radius": 0.3}, "set one of them to 0"),
         ({"align_radius": 0.01, "goal_tolerance": 0.015}, "align_radius must exceed"),
         ({"align_radius": float("nan")}, "align_radius must be finite"),
+        ({"approach": 1.0}, "approach must be below 1"),
+        ({"approach": -0.5}, "approach must be finite and positive"),
+        ({"approach_limit": 0.0}, "approach_limit must be finite and positive"),
     ],
 )
 def test_align_radius_errors_name_the_value(kwargs, match) -> None:
     with pytest.raises(ValueError, match=match):
         MapPlanner(**kwargs)
+
+
+def test_the_approach_arrives_along_the_goal_heading() -> None:
+    """Aiming behind the goal (approach 0.5), the teacher parks 16 of 16 rooms and comes
+    within 5 cm of the goal with a median heading error under 20 deg; aiming at the goal,
+    over 45 deg."""
+    from agents.learned.sb3_vec_env import make_vec_env
+
+    medians = []
+    for approach in (0.0, 0.5):
+        planner = MapPlanner(
+            goal_tolerance=0.015, waypoint_tolerance=0.1, hold_radius=0.0, drive_gate=1.57,
+            reverse=False, align_radius=0.04, approach=approach,
+        )  # fmt: skip
+        n = 16
+        venv = make_vec_env(
+            "RadialIBVS/Parking-v0", n, seed=10_000, monitor=False, scenario="random",
+            physics="kinematic", privileged=True, privileged_map=True,
+        )  # fmt: skip
+        obs, state, starts = venv.reset(), None, np.ones(n, dtype=bool)
+        done, success = np.zeros(n, dtype=bool), np.zeros(n, dtype=bool)
+        arrival = np.full(n, np.nan)
+        while not done.all():
+            action, state = planner.predict(obs, state, starts)
+            distance = np.hypot(*(obs["goal_pose"][:, :2] - obs["robot_pose"][:, :2]).T)
+            error = (obs["goal_pose"][:, 2] - obs["robot_pose"][:, 2] + np.pi) % (2 * np.pi)
+            first = ~done & np.isnan(arrival) & (distance < 0.05)
+            arrival[first] = np.degrees(np.abs(error[first] - np.pi))
+            obs, _, starts, infos = venv.step(action)
+            for i in np.flatnonzero(starts & ~done):
+                success[i] = infos[i]["is_success"]
+            done |= starts
+        assert success.all(), approach
+        medians.append(np.nanmedian(arrival))
+    assert medians[0] > 45.0 and medians[1] < 20.0, medians

@@ -245,6 +245,14 @@ class MapPlanner:
         along it (the bearing is sensitive to millimetres there), metres. A teacher labelling
         states off its own path (:mod:`agents.learned.distill`) uses 0: from a state beside
         the goal it turns towards it instead of stopping there.
+    approach, approach_limit
+        ``0`` (the default): on the path's last segment the follower aims at the goal.
+        ``> 0``: it aims at a point behind the goal on the line of the goal heading,
+        ``min(approach * d, approach_limit)`` metres behind it at a distance ``d``, so the
+        path bends to arrive along the goal heading and the aim still closes on the goal (a
+        continuous function of the pose, with no state). A teacher
+        (:mod:`agents.learned.distill`) uses it: a student that arrives with the goal heading
+        has little turning left at the goal, where the image resolves the least.
     align_radius
         ``0`` (the default): off. ``> goal_tolerance``: near the goal, on the path's last
         segment, the command blends from the follower's (turn towards the goal, drive) into
@@ -280,6 +288,8 @@ class MapPlanner:
         reverse: bool = True,
         final_radius: float = 0.0,
         align_radius: float = 0.0,
+        approach: float = 0.0,
+        approach_limit: float = 0.5,
     ) -> None:
         _import_ompl()
         if isinstance(min_visible, bool) or not isinstance(min_visible, int) or min_visible < 0:
@@ -297,6 +307,8 @@ class MapPlanner:
             "drive_gate": drive_gate,
             "final_radius": final_radius,
             "align_radius": align_radius,
+            "approach": approach,
+            "approach_limit": approach_limit,
         }
         for name, value in values.items():
             zero_ok = name in (
@@ -305,6 +317,7 @@ class MapPlanner:
                 "drive_gate",
                 "final_radius",
                 "align_radius",
+                "approach",
             )
             if not (math.isfinite(value) and value >= 0 and (value > 0 or zero_ok)):
                 raise ValueError(f"{name} must be finite and positive, got {value!r}")
@@ -318,6 +331,12 @@ class MapPlanner:
         self.reverse = bool(reverse)
         self.final_radius = float(final_radius)
         self.align_radius = float(align_radius)
+        self.approach, self.approach_limit = float(approach), float(approach_limit)
+        if self.approach >= 1.0:
+            raise ValueError(
+                f"approach must be below 1 (the aim behind the goal must close on it), "
+                f"got {approach!r}"
+            )
         if self.align_radius > 0 and self.final_radius > 0:
             raise ValueError(
                 f"align_radius ({align_radius!r}) and final_radius ({final_radius!r}) both "
@@ -428,7 +447,9 @@ class MapPlanner:
         align = np.array([v_align / v_max, omega_align / w_max])
         if weight >= 1.0:
             return align
-        return (1.0 - weight) * self._drive(dx, dy, yaw) + weight * align
+        return (1.0 - weight) * self._drive(*self._approach(dx, dy, plan.goal_yaw), yaw) + (
+            weight * align
+        )
 
     def _ramp(self, distance: float, limit: float, accel: float) -> float:
         """Return the speed that stops on ``distance``: proportional, limited, ramped down."""
@@ -452,7 +473,16 @@ class MapPlanner:
             error = _wrap(plan.goal_yaw - yaw)
             omega = math.copysign(self._ramp(abs(error), w_max, robot.max_angular_accel), error)
             return np.array([0.0, omega / w_max])
+        if plan.index == len(plan.waypoints) - 1:
+            dx, dy = self._approach(dx, dy, plan.goal_yaw)
         return self._drive(dx, dy, yaw)
+
+    def _approach(self, dx: float, dy: float, goal_yaw: float) -> tuple[float, float]:
+        """Return the aim on the last segment: the goal, or a point behind it (``approach``)."""
+        if self.approach <= 0:
+            return dx, dy
+        back = min(self.approach * math.hypot(dx, dy), self.approach_limit)
+        return dx - back * math.cos(goal_yaw), dy - back * math.sin(goal_yaw)
 
     def _drive(self, dx: float, dy: float, yaw: float) -> np.ndarray:
         """Return the command towards a waypoint ``(dx, dy)`` metres away (action units)."""
