@@ -113,7 +113,7 @@ def dagger(
     from tqdm.auto import tqdm
 
     from agents.learned.model_files import save_model_dir
-    from agents.learned.sb3_vec_env import make_vec_env
+    from agents.learned.sb3_vec_env import make_vec_env, spaces_env
 
     torch.set_num_threads(torch_threads)
     torch.manual_seed(seed)
@@ -262,18 +262,6 @@ def dagger(
     return out
 
 
-def spaces_env(observation_space: Any, action_space: Any) -> Any:
-    """Return a ``VecEnv`` with just the spaces SB3 needs to build a policy (never stepped)."""
-    import gymnasium as gym
-    from stable_baselines3.common.vec_env import DummyVecEnv
-
-    class _Spaces(gym.Env):
-        def __init__(self) -> None:
-            self.observation_space, self.action_space = observation_space, action_space
-
-    return DummyVecEnv([_Spaces])
-
-
 def dataset_labels(
     path: str | Path, keys: list[str], history: HistoryConfig | None
 ) -> tuple[dict[str, np.ndarray], np.ndarray]:
@@ -411,6 +399,8 @@ def _vec_normalize(
 ) -> Any:
     """Return a ``VecNormalize`` holding the DAgger statistics (``save_normalization`` input)."""
     from stable_baselines3.common.vec_env import VecNormalize
+
+    from agents.learned.sb3_vec_env import spaces_env
 
     venv = VecNormalize(
         spaces_env(space, action_space),

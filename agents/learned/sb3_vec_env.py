@@ -20,7 +20,7 @@ from stable_baselines3.common.vec_env import VecEnv, VecMonitor
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from radial_ibvs_gym.registration import VECTOR_ENTRY_POINTS
 
-__all__ = ["NativeVecEnv", "make_vec_env"]
+__all__ = ["NativeVecEnv", "make_vec_env", "spaces_env"]
 
 
 class NativeVecEnv(VecEnv):
@@ -196,3 +196,14 @@ def make_vec_env(
     if seed is not None:
         venv.seed(seed)
     return VecMonitor(venv) if monitor else venv
+
+
+def spaces_env(observation_space: Any, action_space: Any) -> Any:
+    """Return a ``VecEnv`` with just the spaces SB3 needs to build a policy (never stepped)."""
+    from stable_baselines3.common.vec_env import DummyVecEnv
+
+    class _Spaces(gym.Env):
+        def __init__(self) -> None:
+            self.observation_space, self.action_space = observation_space, action_space
+
+    return DummyVecEnv([_Spaces])

@@ -415,7 +415,7 @@ def train(
 
 def _write_sb3_zip(folder: Path, path: Path) -> None:
     """Write a stable-baselines3 PPO ``model.zip`` holding the policy of ``folder``."""
-    from agents.learned.distill import spaces_env
+    from agents.learned.sb3_vec_env import spaces_env
 
     policy, _ = load_policy(folder)
     params = policy._get_constructor_parameters()
