@@ -364,24 +364,33 @@ def _fine_tune_config(tmp_path, extra: str) -> object:
     return load_train_config(path)
 
 
+def _fine_tuned(student, tmp_path, fine_tune: str, steps: int):
+    """Fine-tune the student for ``steps`` env steps; return the directory, the tuned policy
+    and the student's parameters by name."""
+    from agents.learned.loading import load_policy
+    from agents.learned.training import train
+
+    _, out = student
+    config = _fine_tune_config(tmp_path, f"  fine_tune: {fine_tune}\n")
+    tuned_dir = train(
+        config, tmp_path / "tuned", total_timesteps=steps, init_from=out, progress=False
+    )
+    tuned, _ = load_policy(tuned_dir)
+    original, _ = load_policy(out)
+    return tuned_dir, tuned, dict(original.named_parameters())
+
+
 def test_fine_tuning_sets_the_noise_and_trains_the_critic_alone_first(student, tmp_path):
     """fine_tune.log_std sets the exploration noise; during critic_warmup the actor's weights
     (and the features it shares with the critic) stay bit for bit the student's, the critic's
     move."""
     from agents.learned.fine_tune import critic_parameters
-    from agents.learned.loading import load_policy
-    from agents.learned.training import train
 
-    _, out = student
-    config = _fine_tune_config(tmp_path, "  fine_tune: {log_std: -2.0, critic_warmup: 128}\n")
-    tuned_dir = train(
-        config, tmp_path / "tuned", total_timesteps=128, init_from=out, progress=False
+    tuned_dir, tuned, before = _fine_tuned(
+        student, tmp_path, "{log_std: -2.0, critic_warmup: 128}", 128
     )
-    tuned, _ = load_policy(tuned_dir)
-    original, _ = load_policy(out)
     critic = critic_parameters(tuned)
     assert critic and "log_std" not in critic
-    before = dict(original.named_parameters())
     for name, parameter in tuned.named_parameters():
         if name == "log_std":
             assert torch.all(parameter == -2.0)
@@ -394,20 +403,32 @@ def test_fine_tuning_sets_the_noise_and_trains_the_critic_alone_first(student, t
 
 
 def test_after_the_warmup_the_actor_learns(student, tmp_path):
-    from agents.learned.loading import load_policy
-    from agents.learned.training import train
-
-    _, out = student
-    config = _fine_tune_config(tmp_path, "  fine_tune: {critic_warmup: 64}\n")
-    tuned_dir = train(
-        config, tmp_path / "tuned", total_timesteps=192, init_from=out, progress=False
-    )
-    tuned, _ = load_policy(tuned_dir)
-    original, _ = load_policy(out)
-    before = dict(original.named_parameters())
+    """Past critic_warmup the actor's own layers move too."""
+    _, tuned, before = _fine_tuned(student, tmp_path, "{critic_warmup: 64}", 192)
     moved = [n for n, p in tuned.named_parameters() if not torch.equal(p, before[n])]
     assert any(n.startswith("mlp_extractor.policy_net") for n in moved)
-    assert all(p.requires_grad for p in tuned.parameters())
+
+
+def test_the_warmup_freezes_the_actor_and_releases_it_at_the_end():
+    """CriticWarmup freezes every parameter but the critic's for its steps, and a run that
+    ends inside the warm-up still leaves the policy wholly trainable."""
+    from stable_baselines3 import PPO
+
+    from agents.learned.fine_tune import CriticWarmup, critic_parameters
+
+    venv = make_vec_env("RadialIBVS/Parking-v0", 2, seed=0, monitor=False, **ENV)
+    model = PPO("MultiInputPolicy", venv, n_steps=16, batch_size=32, n_epochs=1, device="cpu")
+    warmup = CriticWarmup(1_000)
+    seen: list[set[str]] = []
+
+    class Spy(CriticWarmup):
+        def _on_rollout_start(self) -> None:
+            names = model.policy.named_parameters()
+            seen.append({n for n, p in names if p.requires_grad})
+
+    model.learn(64, callback=[warmup, Spy(0)])
+    assert seen and all(trainable == critic_parameters(model.policy) for trainable in seen)
+    assert not warmup.frozen and all(p.requires_grad for p in model.policy.parameters())
 
 
 @pytest.mark.parametrize(

@@ -150,11 +150,33 @@ def test_the_map_observation_gives_each_landmarks_visible_range() -> None:
     np.testing.assert_array_equal(seen, obs["visible"] > 0.5)  # the camera's own rule
 
 
-def _aligner() -> MapPlanner:
+def _aligner(approach: float = 0.0) -> MapPlanner:
     return MapPlanner(
         goal_tolerance=0.015, waypoint_tolerance=0.1, hold_radius=0.0, drive_gate=1.57,
-        reverse=False, align_radius=0.04,
+        reverse=False, align_radius=0.04, approach=approach,
     )  # fmt: skip
+
+
+def _park_rooms(planner: MapPlanner, n: int, watch) -> np.ndarray:
+    """Run one episode in each of ``n`` held-out random rooms (kinematic); call
+    ``watch(obs, action, done)`` before each step; return whether each episode parked."""
+    from agents.learned.sb3_vec_env import make_vec_env
+
+    venv = make_vec_env(
+        "RadialIBVS/Parking-v0", n, seed=10_000, monitor=False, scenario="random",
+        physics="kinematic", privileged=True, privileged_map=True,
+    )  # fmt: skip
+    obs, state, starts = venv.reset(), None, np.ones(n, dtype=bool)
+    done, success = np.zeros(n, dtype=bool), np.zeros(n, dtype=bool)
+    while not done.all():
+        action, state = planner.predict(obs, state, starts)
+        watch(obs, action, done)
+        obs, _, starts, infos = venv.step(action)
+        for i in np.flatnonzero(starts & ~done):
+            success[i] = infos[i]["is_success"]
+        done |= starts
+    venv.close()
+    return success
 
 
 def _labels(planner: MapPlanner, poses: np.ndarray, goal: np.ndarray) -> np.ndarray:
@@ -197,27 +219,15 @@ def test_the_final_alignment_is_continuous_and_never_moves_away(r, bearing, yaw,
 def test_the_aligning_teacher_parks_and_hands_over_near_the_goal() -> None:
     """From 4 cm in, the command leaves the follower's: the aligning teacher parks 16 of 16
     rooms through the env, forwards only until the alignment."""
-    planner = _aligner()
-    n = 16
-    from agents.learned.sb3_vec_env import make_vec_env
+    aligned = []
 
-    venv = make_vec_env(
-        "RadialIBVS/Parking-v0", n, seed=10_000, monitor=False, scenario="random",
-        physics="kinematic", privileged=True, privileged_map=True,
-    )  # fmt: skip
-    obs, state, starts = venv.reset(), None, np.ones(n, dtype=bool)
-    done, success, aligned = np.zeros(n, dtype=bool), np.zeros(n, dtype=bool), 0
-    while not done.all():
-        action, state = planner.predict(obs, state, starts)
+    def watch(obs, action, done) -> None:
         distance = np.hypot(*(obs["goal_pose"][:, :2] - obs["robot_pose"][:, :2]).T)
         far = distance >= 0.04
         assert (action[far, 0] >= 0).all()  # forwards only outside the alignment
-        aligned += int((~far & ~done).sum())
-        obs, _, starts, infos = venv.step(action)
-        for i in np.flatnonzero(starts & ~done):
-            success[i] = infos[i]["is_success"]
-        done |= starts
-    assert success.all() and aligned > 16
+        aligned.append(int((~far & ~done).sum()))
+
+    assert _park_rooms(_aligner(), 16, watch).all() and sum(aligned) > 16
 
 
 @pytest.mark.parametrize(
@@ -240,32 +250,16 @@ def test_the_approach_arrives_along_the_goal_heading() -> None:
     """Aiming behind the goal (approach 0.5), the teacher parks 16 of 16 rooms and comes
     within 5 cm of the goal with a median heading error under 20 deg; aiming at the goal,
     over 45 deg."""
-    from agents.learned.sb3_vec_env import make_vec_env
-
     medians = []
     for approach in (0.0, 0.5):
-        planner = MapPlanner(
-            goal_tolerance=0.015, waypoint_tolerance=0.1, hold_radius=0.0, drive_gate=1.57,
-            reverse=False, align_radius=0.04, approach=approach,
-        )  # fmt: skip
-        n = 16
-        venv = make_vec_env(
-            "RadialIBVS/Parking-v0", n, seed=10_000, monitor=False, scenario="random",
-            physics="kinematic", privileged=True, privileged_map=True,
-        )  # fmt: skip
-        obs, state, starts = venv.reset(), None, np.ones(n, dtype=bool)
-        done, success = np.zeros(n, dtype=bool), np.zeros(n, dtype=bool)
-        arrival = np.full(n, np.nan)
-        while not done.all():
-            action, state = planner.predict(obs, state, starts)
+        arrival = np.full(16, np.nan)
+
+        def watch(obs, action, done, arrival=arrival) -> None:
             distance = np.hypot(*(obs["goal_pose"][:, :2] - obs["robot_pose"][:, :2]).T)
             error = (obs["goal_pose"][:, 2] - obs["robot_pose"][:, 2] + np.pi) % (2 * np.pi)
             first = ~done & np.isnan(arrival) & (distance < 0.05)
             arrival[first] = np.degrees(np.abs(error[first] - np.pi))
-            obs, _, starts, infos = venv.step(action)
-            for i in np.flatnonzero(starts & ~done):
-                success[i] = infos[i]["is_success"]
-            done |= starts
-        assert success.all(), approach
+
+        assert _park_rooms(_aligner(approach), 16, watch).all(), approach
         medians.append(np.nanmedian(arrival))
     assert medians[0] > 45.0 and medians[1] < 20.0, medians

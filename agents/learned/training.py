@@ -165,12 +165,7 @@ class _FineTune:
             if meta.get("history")
             else None
         )
-        params = policy._get_constructor_parameters()
-        kwargs = {
-            k: v
-            for k, v in params.items()
-            if k not in ("observation_space", "action_space", "lr_schedule", "use_sde")
-        }
+        kwargs = _policy_kwargs(policy)
         stats = directory / "normalization.npz"
         keys = sorted(read_normalization(stats)["stats"]) if stats.is_file() else []
         return cls(directory, policy, kwargs, history, keys)
@@ -184,6 +179,13 @@ class _FineTune:
         stats = self.directory / "normalization.npz"
         if isinstance(venv, VecNormalize) and stats.is_file():
             _restore_normalization(venv, stats, default_count=1e6)
+
+
+def _policy_kwargs(policy: Any) -> dict[str, Any]:
+    """Return the keyword arguments that rebuild ``policy`` (its spaces and schedule aside)."""
+    params = policy._get_constructor_parameters()
+    skip = ("observation_space", "action_space", "lr_schedule", "use_sde")
+    return {k: v for k, v in params.items() if k not in skip}
 
 
 def _restore_normalization(venv: VecNormalize, path: Path, default_count: float) -> None:
@@ -418,14 +420,10 @@ def _write_sb3_zip(folder: Path, path: Path) -> None:
     from agents.learned.sb3_vec_env import spaces_env
 
     policy, _ = load_policy(folder)
-    params = policy._get_constructor_parameters()
-    kwargs = {
-        k: v
-        for k, v in params.items()
-        if k not in ("observation_space", "action_space", "lr_schedule", "use_sde")
-    }
-    env = spaces_env(params["observation_space"], params["action_space"])
-    model = ALGOS["ppo"](type(policy), env, policy_kwargs=kwargs, device="cpu", verbose=0)
+    env = spaces_env(policy.observation_space, policy.action_space)
+    model = ALGOS["ppo"](
+        type(policy), env, policy_kwargs=_policy_kwargs(policy), device="cpu", verbose=0
+    )
     model.policy.load_state_dict(policy.state_dict())
     model.save(path)
 
