@@ -4,6 +4,9 @@
     python benchmarks/results_table.py outputs/benchmark/episodes.json \
         --suites held-out obstacles cross-camera paper paper-lab imperfect
 
+Several runs' rows can be joined (``ROWS ROWS ...``), and a model directory shown under the
+name it ships as (``--rename outputs/sweep/approach/seed-0=ppo-student``).
+
 Each cell is the success rate at 2 cm / 2 deg with its 95 % Wilson interval; the last rows
 say how the failed episodes ended (collision / time-out / lost) for each policy.
 """
@@ -31,11 +34,19 @@ DEFAULT_POLICIES = [
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("rows", type=Path, help="episodes.json of a benchmark run")
+    parser.add_argument("rows", type=Path, nargs="+", help="episodes.json of benchmark runs")
     parser.add_argument("--suites", nargs="+", help="default: every suite in the rows")
     parser.add_argument("--policies", nargs="+", default=DEFAULT_POLICIES)
+    parser.add_argument(
+        "--rename", nargs="+", default=[], metavar="OLD=NEW", help="show policy OLD as NEW"
+    )
     args = parser.parse_args()
-    rows = json.loads(args.rows.read_text())
+    if bad := [item for item in args.rename if "=" not in item]:
+        parser.error(f"--rename takes OLD=NEW, got {bad}")
+    renames = dict(item.split("=", 1) for item in args.rename)
+    rows = [row for path in args.rows for row in json.loads(path.read_text())]
+    for row in rows:
+        row["policy"] = renames.get(row["policy"], row["policy"])
     cells: dict[tuple[str, str], dict[str, list[dict]]] = defaultdict(lambda: defaultdict(list))
     order: list[tuple[str, str]] = []
     for row in rows:
