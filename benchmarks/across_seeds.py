@@ -2,7 +2,7 @@
 
 Usage::
 
-    python benchmarks/across_seeds.py outputs/bench/episodes.json \
+    python benchmarks/across_seeds.py outputs/bench/episodes.json [more episodes.json ...] \
         --group ppo-residual=outputs/models/residual-g-s0,outputs/models/residual-g-s1 \
         [--tolerance 2cm/2deg]
 
@@ -27,11 +27,13 @@ from agents.stats import iqm_interval
 def main() -> None:
     """Print the table."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("episodes", type=Path, help="episodes.json of radial-ibvs benchmark")
+    parser.add_argument(
+        "episodes", type=Path, nargs="+", help="episodes.json of radial-ibvs benchmark runs"
+    )
     parser.add_argument("--group", action="append", required=True, help="NAME=POLICY,POLICY,...")
     parser.add_argument("--tolerance", default="2cm/2deg", help="default: %(default)s")
     args = parser.parse_args()
-    rows = json.loads(args.episodes.read_text())
+    rows = [row for path in args.episodes for row in json.loads(path.read_text())]
     for spec in args.group:
         name, _, members = spec.partition("=")
         policies = members.split(",")

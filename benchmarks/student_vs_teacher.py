@@ -9,6 +9,9 @@ the map, says what it would do in the same state. Printed: the episodes' ends, t
 of distance to the goal the share of the steps spent there, the mean teacher and student
 speeds and turn rates (in units of the robot's limits) and the RMS difference, and the
 share of steps where the turn has the wrong sign or less than half the teacher's size.
+With ``--restart``, the teacher then drives from each time-out's last state (the same room,
+the student's final pose as the start): if it cannot park from there either, the student
+stopped where its teacher's command field stops too.
 """
 
 from __future__ import annotations
@@ -18,6 +21,7 @@ import collections
 import itertools
 from pathlib import Path
 
+import gymnasium as gym
 import numpy as np
 
 from agents import load
@@ -38,6 +42,7 @@ def main() -> None:
     parser.add_argument("model", type=Path)
     parser.add_argument("--episodes", type=int, default=40)
     parser.add_argument("--seed", type=int, default=10_000)
+    parser.add_argument("--restart", action="store_true", help="the teacher from the time-outs")
     args = parser.parse_args()
     student = load(args.model)
     meta = student.metadata
@@ -56,6 +61,8 @@ def main() -> None:
     rows: list[tuple[float, float, float, float, float]] = []
     ends: collections.Counter[str] = collections.Counter()
     stalls: list[tuple[float, float]] = []  # (distance, heading error) of stalled time-outs
+    timeouts: list[tuple[int, np.ndarray, np.ndarray]] = []  # (env, final pose, goal pose)
+    pose = goal = np.zeros((n, 3))
     while not done.all():
         own = {k: obs[k] for k in keys}
         action, s_state = student.predict(own, s_state, starts, deterministic=True)
@@ -64,11 +71,14 @@ def main() -> None:
         for i in np.flatnonzero(~done):
             rows.append((distance[i], *label[i], *action[i]))
         heading = np.degrees(np.abs(_wrap(obs["goal_pose"][:, 2] - obs["robot_pose"][:, 2])))
+        pose, goal = obs["robot_pose"].copy(), obs["goal_pose"].copy()
         obs, _, starts, infos = venv.step(action)
         for i in np.flatnonzero(starts & ~done):
             info = infos[i]
             end = [k for k in ("is_success", "collision", "lost") if info.get(k)]
             ends[end[0] if end else "timeout"] += 1
+            if not end:  # the pose before the last step: close enough for a restart
+                timeouts.append((int(i), pose[i], goal[i]))
             still = np.abs(action[i]).max() < 0.02 and np.abs(label[i]).max() >= 0.02
             if not end and still:
                 stalls.append((float(distance[i]), float(heading[i])))
@@ -100,6 +110,37 @@ def main() -> None:
             f" | {sv.mean():+.2f}, {sw.mean():+.2f} | {rms[0]:.3f}, {rms[1]:.3f}"
             f" | {wrong:.0%} | {small:.0%} |"
         )
+    if args.restart and timeouts:
+        print(restart(meta, student.env_kwargs, teacher, args.seed, timeouts))
+
+
+def restart(
+    meta: dict,
+    env_kwargs: dict,
+    teacher: object,
+    seed: int,
+    timeouts: list[tuple[int, np.ndarray, np.ndarray]],
+) -> str:
+    """Return a line: how the teacher ends from each time-out's final pose, in the same room."""
+    env = gym.make(meta["env_id"], **env_kwargs, **PRIVILEGED)
+    ends: collections.Counter[str] = collections.Counter()
+    for i, pose, goal in timeouts:
+        _, info = env.reset(seed=seed + i)
+        if not np.allclose(info["goal_pose"], goal):  # the vector env seeds env i with seed + i
+            raise RuntimeError(f"env {i}: the room of seed {seed + i} is not the student's")
+        obs, _ = env.reset(seed=seed + i, options={"start": pose})
+        state, first, info, end = None, True, {}, "timeout"
+        for _ in range(env.spec.max_episode_steps or 600):
+            action, state = teacher.predict(obs, state, np.array([first]))  # type: ignore[attr-defined]
+            first = False
+            obs, _, terminated, truncated, info = env.step(action)
+            if terminated or truncated:
+                found = [k for k in ("is_success", "collision", "lost") if info.get(k)]
+                end = found[0] if found else "timeout"
+                break
+        ends[end] += 1
+    env.close()
+    return f"the teacher from the student's {len(timeouts)} time-outs' last poses: {dict(ends)}"
 
 
 if __name__ == "__main__":

@@ -263,3 +263,44 @@ def test_the_approach_arrives_along_the_goal_heading() -> None:
         assert _park_rooms(_aligner(approach), 16, watch).all(), approach
         medians.append(np.nanmedian(arrival))
     assert medians[0] > 45.0 and medians[1] < 20.0, medians
+
+
+def test_align_unblock_leaves_no_stall_point_near_the_goal() -> None:
+    """From 3 cm off the goal with the heading up to 90 deg off, the blend of align_radius
+    stands still for good in some rooms (its two commands cancel); align_unblock parks all."""
+    env = gym.make(
+        "RadialIBVS/Parking-v0", scenario="random", physics="kinematic", privileged=True,
+        privileged_map=True,
+    )  # fmt: skip
+    rng = np.random.default_rng(0)
+    starts = []
+    for k in range(20):
+        _, info = env.reset(seed=10_000 + k)
+        g = np.asarray(info["goal_pose"], dtype=np.float64)
+        bearing, error = rng.uniform(-np.pi, np.pi), rng.uniform(-np.pi / 2, np.pi / 2)
+        starts.append(g + np.array([0.03 * np.cos(bearing), 0.03 * np.sin(bearing), error]))
+    parked = {}
+    for unblock in (False, True):
+        planner = MapPlanner(
+            goal_tolerance=0.015, waypoint_tolerance=0.1, hold_radius=0.0, drive_gate=1.57,
+            reverse=False, align_radius=0.04, approach=0.5, align_unblock=unblock,
+        )  # fmt: skip
+        ends = []
+        for k, start in enumerate(starts):
+            obs, _ = env.reset(seed=10_000 + k, options={"start": start})
+            state, first, info = None, True, {}
+            for _ in range(300):
+                action, state = planner.predict(obs, state, np.array([first]))
+                first = False
+                obs, _, terminated, truncated, info = env.step(action)
+                if terminated or truncated:
+                    break
+            ends.append(bool(info["is_success"]))
+        parked[unblock] = sum(ends)
+    env.close()
+    assert parked[True] == 20 and parked[False] <= 15, parked
+
+
+def test_align_unblock_must_be_a_bool() -> None:
+    with pytest.raises(ValueError, match="align_unblock must be true or false, got 'yes'"):
+        MapPlanner(align_unblock="yes")  # type: ignore[arg-type]

@@ -266,6 +266,14 @@ class MapPlanner:
         (:mod:`agents.learned.distill`) uses it instead of ``final_radius``: the smooth law's
         turn near the goal flips sign over centimetres, which an image-only student averages
         into a stall. Exclusive with ``final_radius``.
+    align_unblock
+        ``False`` (the default): the blend of ``align_radius`` as above. ``True``: where the
+        two weighted commands cancel (the blend's larger component is under half of the
+        largest component of their magnitudes added), the follower's command alone. A blend
+        of two commands has zeros away from the goal, where the robot stands still for good:
+        from starts 2.5-4 cm from the goal with any heading, the blend stalled in 26 of 120
+        rooms and this rule in 2 (``approach=0.5``). The command is discontinuous where the
+        rule switches.
 
     Raises
     ------
@@ -290,6 +298,7 @@ class MapPlanner:
         align_radius: float = 0.0,
         approach: float = 0.0,
         approach_limit: float = 0.5,
+        align_unblock: bool = False,
     ) -> None:
         _import_ompl()
         if isinstance(min_visible, bool) or not isinstance(min_visible, int) or min_visible < 0:
@@ -332,6 +341,9 @@ class MapPlanner:
         self.final_radius = float(final_radius)
         self.align_radius = float(align_radius)
         self.approach, self.approach_limit = float(approach), float(approach_limit)
+        if not isinstance(align_unblock, bool):
+            raise ValueError(f"align_unblock must be true or false, got {align_unblock!r}")
+        self.align_unblock = align_unblock
         if self.approach >= 1.0:
             raise ValueError(
                 f"approach must be below 1 (the aim behind the goal must close on it), "
@@ -447,9 +459,13 @@ class MapPlanner:
         align = np.array([v_align / v_max, omega_align / w_max])
         if weight >= 1.0:
             return align
-        return (1.0 - weight) * self._drive(*self._approach(dx, dy, plan.goal_yaw), yaw) + (
-            weight * align
-        )
+        drive = self._drive(*self._approach(dx, dy, plan.goal_yaw), yaw)
+        blend = (1.0 - weight) * drive + weight * align
+        if self.align_unblock:  # the two commands cancel: a stall point of the blend
+            added = np.abs((1.0 - weight) * drive) + np.abs(weight * align)
+            if np.abs(blend).max() < 0.5 * added.max():
+                return drive
+        return blend
 
     def _ramp(self, distance: float, limit: float, accel: float) -> float:
         """Return the speed that stops on ``distance``: proportional, limited, ramped down."""
