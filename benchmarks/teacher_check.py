@@ -3,7 +3,7 @@
 Usage::
 
     python benchmarks/teacher_check.py configs/agents/dagger_planner_set_align.yaml \
-        [--episodes 64] [--seed 10000] [--perturb 0.0 0.02]
+        [--episodes 64] [--seed 10000] [--perturb 0.0 0.02] [--near 0.025 0.04 0.08 0.15]
 
 Runs the config's teacher (its ``teacher`` and ``teacher_kwargs``) in the config's env with the
 privileged observation, on validation seeds. With ``--perturb p`` each robot, at each step with
@@ -12,6 +12,10 @@ then the teacher takes over again from wherever it is: a crude stand-in for a st
 mistakes, which DAgger asks the teacher to label. Prints how the episodes end, the median
 episode length, the median heading error (to the goal heading) when a robot first comes
 within 5 cm of the goal, and how far from the goal the time-outs stopped.
+
+With ``--near d ...`` it also starts the teacher ``d`` metres from the goal (a random bearing,
+the heading up to 180 deg off the goal heading, seeded), once per validation room, where a
+student that arrived misaligned would hand it the state, and prints how those episodes end.
 """
 
 from __future__ import annotations
@@ -20,6 +24,7 @@ import argparse
 import collections
 from pathlib import Path
 
+import gymnasium as gym
 import numpy as np
 
 from agents.analytic import make_analytic
@@ -74,19 +79,49 @@ def run(config_path: Path, episodes: int, seed: int, perturb: float) -> str:
     )
 
 
+def near(config_path: Path, distance: float, episodes: int, seed: int) -> str:
+    """Return one line: the ends of teacher episodes started ``distance`` m from the goal."""
+    config = load_dagger_config(config_path)
+    env = gym.make(config.env_id, **config.env_kwargs, **PRIVILEGED)
+    rng = np.random.default_rng(seed)
+    ends: collections.Counter[str] = collections.Counter()
+    for k in range(episodes):
+        teacher = make_analytic(config.teacher, **config.teacher_kwargs)
+        _, info = env.reset(seed=seed + k)
+        goal = np.asarray(info["goal_pose"], dtype=np.float64)
+        bearing, error = rng.uniform(-np.pi, np.pi, 2)
+        offset = np.array([distance * np.cos(bearing), distance * np.sin(bearing), error])
+        obs, _ = env.reset(seed=seed + k, options={"start": goal + offset})
+        state, first, info, end = None, True, {}, "timeout"
+        for _ in range(env.spec.max_episode_steps if env.spec else 600):
+            action, state = teacher.predict(obs, state, np.array([first]))
+            first = False
+            obs, _, terminated, truncated, info = env.step(action)
+            if terminated or truncated:
+                found = [k for k in ("is_success", "collision", "lost") if info.get(k)]
+                end = found[0] if found else "timeout"
+                break
+        ends[end] += 1
+    env.close()
+    return f"| {config_path.name} | start {100 * distance:g} cm off the goal | {dict(ends)} | | |"
+
+
 def main() -> None:
     """Print one row per perturbation."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("config", type=Path, nargs="+", help="DAgger config(s)")
     parser.add_argument("--episodes", type=int, default=64)
     parser.add_argument("--seed", type=int, default=10_000)
-    parser.add_argument("--perturb", type=float, nargs="+", default=[0.0, 0.02])
+    parser.add_argument("--perturb", type=float, nargs="*", default=[0.0, 0.02])
+    parser.add_argument("--near", type=float, nargs="*", default=[], help="start distances, m")
     args = parser.parse_args()
     print("| config | perturbation | ends | median length | heading error at 5 cm |")
     print("|---|---:|---|---|---:|")
     for path in args.config:
         for p in args.perturb:
             print(run(path, args.episodes, args.seed, p), flush=True)
+        for d in args.near:
+            print(near(path, d, args.episodes, args.seed), flush=True)
 
 
 if __name__ == "__main__":
