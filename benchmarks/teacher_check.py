@@ -85,6 +85,7 @@ def near(config_path: Path, distance: float, episodes: int, seed: int) -> str:
     env = gym.make(config.env_id, **config.env_kwargs, **PRIVILEGED)
     rng = np.random.default_rng(seed)
     ends: collections.Counter[str] = collections.Counter()
+    stopped: list[tuple[float, float]] = []  # (distance in cm, largest last action component)
     for k in range(episodes):
         teacher = make_analytic(config.teacher, **config.teacher_kwargs)
         _, info = env.reset(seed=seed + k)
@@ -102,8 +103,18 @@ def near(config_path: Path, distance: float, episodes: int, seed: int) -> str:
                 end = found[0] if found else "timeout"
                 break
         ends[end] += 1
+        if end == "timeout":
+            stopped.append((100 * float(info["position_error_m"]), float(np.abs(action).max())))
     env.close()
-    return f"| {config_path.name} | start {100 * distance:g} cm off the goal | {dict(ends)} | | |"
+    away = ""
+    if stopped:
+        cm, command = np.array(stopped).T
+        away = (
+            f", time-outs {cm.min():.1f}-{cm.max():.1f} cm from the goal, their last command"
+            f" at most {command.max():.3f}"
+        )
+    where = f"start {100 * distance:g} cm off the goal"
+    return f"| {config_path.name} | {where} | {dict(ends)}{away} | | |"
 
 
 def main() -> None:
