@@ -239,6 +239,7 @@ def test_the_aligning_teacher_parks_and_hands_over_near_the_goal() -> None:
         ({"approach": 1.0}, "approach must be below 1"),
         ({"approach": -0.5}, "approach must be finite and positive"),
         ({"approach_limit": 0.0}, "approach_limit must be finite and positive"),
+        ({"align_unblock": True}, "align_unblock acts on align_radius's blend"),
     ],
 )
 def test_align_radius_errors_name_the_value(kwargs, match) -> None:

@@ -345,6 +345,8 @@ class MapPlanner:
         if not isinstance(align_unblock, bool):
             raise ValueError(f"align_unblock must be true or false, got {align_unblock!r}")
         self.align_unblock = align_unblock
+        if align_unblock and self.align_radius <= 0:
+            raise ValueError("align_unblock acts on align_radius's blend: set align_radius > 0")
         if self.approach >= 1.0:
             raise ValueError(
                 f"approach must be below 1 (the aim behind the goal must close on it), "
