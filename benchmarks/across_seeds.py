@@ -49,12 +49,19 @@ def main() -> None:
         print(f"\n{name}: {len(policies)} seeds, success at {args.tolerance}")
         print("| suite | variant | per seed | IQM | 95 % CI |")
         print("|---|---|---|---|---|")
+        tasks = []
         for (suite, variant), per in rates.items():
             values = [per[p] for p in policies if p in per]
-            point, low, high = iqm_interval([values])
             cells = " ".join(f"{v:.0%}" for v in values)
+            if len(values) < len(policies):  # not every seed ran it: no interval, not in "all"
+                cells += f" ({len(values)} of {len(policies)} seeds)"
+                print(f"| {suite} | {variant} | {cells} | - | - |")
+                continue
+            tasks.append(values)
+            point, low, high = iqm_interval([values])
             print(f"| {suite} | {variant} | {cells} | {point:.0%} | {low:.0%}-{high:.0%} |")
-        tasks = [[per[p] for p in policies if p in per] for per in rates.values()]
+        if not tasks:
+            continue
         point, low, high = iqm_interval(tasks)
         interval = f"{low:.0%}-{high:.0%}"
         print(f"| all | stratified over {len(tasks)} variants | | {point:.0%} | {interval} |")
