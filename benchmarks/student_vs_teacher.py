@@ -28,6 +28,7 @@ from agents import load
 from agents.analytic import make_analytic
 from agents.learned.distill_config import PRIVILEGED
 from agents.learned.sb3_vec_env import make_vec_env
+from agents.runner import run_episode
 
 BANDS = (0.0, 0.05, 0.15, 0.3, 0.6, 1.2, 2.5, np.inf)
 
@@ -128,17 +129,7 @@ def restart(
         _, info = env.reset(seed=seed + i)
         if not np.allclose(info["goal_pose"], goal):  # the vector env seeds env i with seed + i
             raise RuntimeError(f"env {i}: the room of seed {seed + i} is not the student's")
-        obs, _ = env.reset(seed=seed + i, options={"start": pose})
-        state, first, info, end = None, True, {}, "timeout"
-        for _ in range(env.spec.max_episode_steps or 600):
-            action, state = teacher.predict(obs, state, np.array([first]))  # type: ignore[attr-defined]
-            first = False
-            obs, _, terminated, truncated, info = env.step(action)
-            if terminated or truncated:
-                found = [k for k in ("is_success", "collision", "lost") if info.get(k)]
-                end = found[0] if found else "timeout"
-                break
-        ends[end] += 1
+        ends[run_episode(teacher, env, seed=seed + i, options={"start": pose}).end] += 1
     env.close()
     return f"the teacher from the student's {len(timeouts)} time-outs' last poses: {dict(ends)}"
 

@@ -30,6 +30,7 @@ import numpy as np
 from agents.analytic import make_analytic
 from agents.learned.distill_config import PRIVILEGED, load_dagger_config
 from agents.learned.sb3_vec_env import make_vec_env
+from agents.runner import run_episode
 
 BURST = 10  # steps of a random command
 
@@ -92,19 +93,12 @@ def near(config_path: Path, distance: float, episodes: int, seed: int) -> str:
         goal = np.asarray(info["goal_pose"], dtype=np.float64)
         bearing, error = rng.uniform(-np.pi, np.pi, 2)
         offset = np.array([distance * np.cos(bearing), distance * np.sin(bearing), error])
-        obs, _ = env.reset(seed=seed + k, options={"start": goal + offset})
-        state, first, info, end = None, True, {}, "timeout"
-        for _ in range(env.spec.max_episode_steps if env.spec else 600):
-            action, state = teacher.predict(obs, state, np.array([first]))
-            first = False
-            obs, _, terminated, truncated, info = env.step(action)
-            if terminated or truncated:
-                found = [k for k in ("is_success", "collision", "lost") if info.get(k)]
-                end = found[0] if found else "timeout"
-                break
-        ends[end] += 1
-        if end == "timeout":
-            stopped.append((100 * float(info["position_error_m"]), float(np.abs(action).max())))
+        log = run_episode(teacher, env, seed=seed + k, options={"start": goal + offset})
+        ends[log.end] += 1
+        if log.end == "time-out":
+            stopped.append(
+                (100 * float(log.info["position_error_m"]), float(np.abs(log.actions[-1]).max()))
+            )
     env.close()
     away = ""
     if stopped:

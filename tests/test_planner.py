@@ -286,17 +286,12 @@ def test_align_unblock_leaves_no_stall_point_near_the_goal() -> None:
             goal_tolerance=0.015, waypoint_tolerance=0.1, hold_radius=0.0, drive_gate=1.57,
             reverse=False, align_radius=0.04, approach=0.5, align_unblock=unblock,
         )  # fmt: skip
-        ends = []
-        for k, start in enumerate(starts):
-            obs, _ = env.reset(seed=10_000 + k, options={"start": start})
-            state, first, info = None, True, {}
-            for _ in range(300):
-                action, state = planner.predict(obs, state, np.array([first]))
-                first = False
-                obs, _, terminated, truncated, info = env.step(action)
-                if terminated or truncated:
-                    break
-            ends.append(bool(info["is_success"]))
+        ends = [
+            run_episode(
+                planner, env, seed=10_000 + k, options={"start": start}, max_steps=300
+            ).success
+            for k, start in enumerate(starts)
+        ]
         parked[unblock] = sum(ends)
     env.close()
     assert parked[True] == 20 and parked[False] <= 15, parked
