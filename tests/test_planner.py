@@ -12,7 +12,7 @@ from hypothesis import strategies as st
 
 import radial_ibvs_gym  # noqa: F401
 from agents import make_policy
-from agents.analytic.planner import MapPlanner, plan_path, segment_free
+from agents.analytic.planner import MapPlanner, Plan, plan_path, segment_free
 from agents.cli import main
 from agents.runner import make_env, run_episode
 
@@ -300,3 +300,52 @@ def test_align_unblock_leaves_no_stall_point_near_the_goal() -> None:
 def test_align_unblock_must_be_a_bool() -> None:
     with pytest.raises(ValueError, match="align_unblock must be true or false, got 'yes'"):
         MapPlanner(align_unblock="yes")  # type: ignore[arg-type]
+
+
+def test_the_docking_law_parks_from_the_cone_and_turns_by_the_heading_error() -> None:
+    """With line_radius, from 3-25 cm behind the goal in its cone (heading up to 30 deg off)
+    and from just past it, the teacher parks 20 of 20 rooms; near the goal its turn is the
+    docking law's, a function of the heading error and offsets, not of a bearing."""
+    env = gym.make(
+        "RadialIBVS/Parking-v0", scenario="random", physics="kinematic", privileged=True,
+        privileged_map=True,
+    )  # fmt: skip
+    planner = MapPlanner(
+        goal_tolerance=0.015, waypoint_tolerance=0.1, hold_radius=0.0, drive_gate=1.57,
+        reverse=False, align_radius=0.04, approach=0.5, align_unblock=True, line_radius=0.3,
+    )  # fmt: skip
+    rng = np.random.default_rng(1)
+    parked = 0
+    for k in range(20):
+        _, info = env.reset(seed=10_000 + k)
+        g = np.asarray(info["goal_pose"], dtype=np.float64)
+        if k % 4 == 3:  # past the goal, within the band around its line
+            along, side = rng.uniform(0.0, 0.04), rng.uniform(-0.012, 0.012)
+        else:
+            along = -rng.uniform(0.03, 0.25)
+            side = -along * np.tan(rng.uniform(-0.28, 0.28))
+        c, s = np.cos(g[2]), np.sin(g[2])
+        start = g + np.array([c * along - s * side, s * along + c * side, rng.uniform(-0.5, 0.5)])
+        parked += run_episode(
+            planner, env, seed=10_000 + k, options={"start": start}, max_steps=300
+        ).success
+    env.close()
+    assert parked == 20
+    # at the goal, on its line, 10 deg off: a pure turn back to the goal heading
+    plan = Plan(waypoints=np.array([[-1.0, 0.0], [0.0, 0.0]]), goal_yaw=0.0)
+    v, omega = planner._dock(plan, np.array([0.0, 0.0, np.radians(10.0)]))
+    assert v == 0.0 and omega < 0.0
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "match"),
+    [
+        ({"line_cone": 1.6}, "line_cone must be below pi/2 radians, got 1.6"),
+        ({"line_radius": -0.1}, "line_radius must be finite and positive, got -0.1"),
+        ({"line_radius": 0.3, "final_radius": 0.3}, "line_radius .* and final_radius"),
+        ({"line_speed": float("nan")}, "line_speed must be finite and positive"),
+    ],
+)
+def test_line_errors_name_the_value(kwargs, match) -> None:
+    with pytest.raises(ValueError, match=match):
+        MapPlanner(**kwargs)

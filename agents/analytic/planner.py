@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from agents.analytic.docking import goal_frame, in_docking_cone, line_docking
 from agents.analytic.pose_oracle import PoseOracle
 from radial_ibvs_gym.physics import RobotConfig
 
@@ -275,6 +276,17 @@ class MapPlanner:
         blend timed out in 14 and 17, this rule in 2 and 0 (``approach=0.5``;
         ``benchmarks/teacher_check.py --near``). The command is discontinuous where the rule
         switches.
+    line_radius, line_cone, line_lateral_gain, line_speed
+        ``0`` (the default): off. ``> 0``: within ``line_radius`` metres of the goal, on the
+        path's last segment, wherever the robot lies behind the goal within ``line_cone``
+        radians of the goal heading line, or within ``goal_tolerance`` of that line, the
+        line-following docking law of :mod:`agents.analytic.docking` instead of the follower
+        and ``align_radius``'s blend: lateral gain ``line_lateral_gain``, rad/m^2, at most
+        ``line_speed`` m/s (its steering gain, ``2 sqrt(line_lateral_gain) * speed``, stays
+        below ``1 / control_dt``). Its turn near the goal is mostly the heading error, which
+        an image resolves, where the follower's is the bearing to a point centimetres away.
+        A teacher (:mod:`agents.learned.distill`) uses it with ``approach``, which brings the
+        robot into the cone.
 
     Raises
     ------
@@ -300,6 +312,10 @@ class MapPlanner:
         approach: float = 0.0,
         approach_limit: float = 0.5,
         align_unblock: bool = False,
+        line_radius: float = 0.0,
+        line_cone: float = 0.3,
+        line_lateral_gain: float = 900.0,
+        line_speed: float = 0.15,
     ) -> None:
         _import_ompl()
         if isinstance(min_visible, bool) or not isinstance(min_visible, int) or min_visible < 0:
@@ -319,6 +335,10 @@ class MapPlanner:
             "align_radius": align_radius,
             "approach": approach,
             "approach_limit": approach_limit,
+            "line_radius": line_radius,
+            "line_cone": line_cone,
+            "line_lateral_gain": line_lateral_gain,
+            "line_speed": line_speed,
         }
         for name, value in values.items():
             zero_ok = name in (
@@ -328,6 +348,9 @@ class MapPlanner:
                 "final_radius",
                 "align_radius",
                 "approach",
+                "line_radius",
+                "line_cone",
+                "line_lateral_gain",
             )
             if not (math.isfinite(value) and value >= 0 and (value > 0 or zero_ok)):
                 raise ValueError(f"{name} must be finite and positive, got {value!r}")
@@ -345,6 +368,15 @@ class MapPlanner:
         if not isinstance(align_unblock, bool):
             raise ValueError(f"align_unblock must be true or false, got {align_unblock!r}")
         self.align_unblock = align_unblock
+        self.line_radius, self.line_lateral_gain = float(line_radius), float(line_lateral_gain)
+        self.line_cone, self.line_speed = float(line_cone), float(line_speed)
+        if self.line_cone >= math.pi / 2:
+            raise ValueError(f"line_cone must be below pi/2 radians, got {line_cone!r}")
+        if self.line_radius > 0 and self.final_radius > 0:
+            raise ValueError(
+                f"line_radius ({line_radius!r}) and final_radius ({final_radius!r}) both "
+                "take over near the goal: set one of them to 0"
+            )
         if align_unblock and self.align_radius <= 0:
             raise ValueError("align_unblock acts on align_radius's blend: set align_radius > 0")
         if self.approach >= 1.0:
@@ -430,6 +462,8 @@ class MapPlanner:
             pose = np.asarray(row["robot_pose"], dtype=np.float64)
             if self._oracle is not None and self._near_goal(plans[i], pose, self.final_radius):
                 actions[i] = self._oracle.predict(row)[0]
+            elif self.line_radius > 0 and self._docking(plans[i], pose):
+                actions[i] = self._dock(plans[i], pose)
             elif self.align_radius > 0 and self._near_goal(plans[i], pose, self.align_radius):
                 actions[i] = self._align(plans[i], pose)
             else:
@@ -441,6 +475,32 @@ class MapPlanner:
         goal = plan.waypoints[-1]
         last = plan.index >= len(plan.waypoints) - 1
         return last and math.hypot(goal[0] - pose[0], goal[1] - pose[1]) < radius
+
+    def _docking(self, plan: Plan, pose: F64) -> bool:
+        """Whether the docking law of ``line_radius`` commands the robot."""
+        if not self._near_goal(plan, pose, self.line_radius):
+            return False
+        x_g, y_g, _ = goal_frame(pose, self._goal_pose(plan))
+        return in_docking_cone(x_g, y_g, self.line_cone, self.goal_tolerance)
+
+    def _dock(self, plan: Plan, pose: F64) -> np.ndarray:
+        """Return the docking law's command (``line_radius``), action units."""
+        robot = self.robot
+        v, omega = line_docking(
+            *goal_frame(pose, self._goal_pose(plan)),
+            gain=self.gain,
+            lateral_gain=self.line_lateral_gain,
+            max_speed=min(robot.max_linear_speed, self.line_speed),
+            max_accel=robot.max_linear_accel,
+            max_turn=robot.max_angular_speed,
+            max_turn_accel=robot.max_angular_accel,
+        )
+        return np.array([v / robot.max_linear_speed, omega / robot.max_angular_speed])
+
+    @staticmethod
+    def _goal_pose(plan: Plan) -> F64:
+        goal = plan.waypoints[-1]
+        return np.array([float(goal[0]), float(goal[1]), plan.goal_yaw])
 
     def _align(self, plan: Plan, pose: F64) -> np.ndarray:
         """Return the blend of the drive to the goal and the final alignment (``align_radius``)."""
