@@ -8,7 +8,9 @@ metadata, deterministic actions); at every step the teacher, which sees the true
 the map, says what it would do in the same state. Printed: the episodes' ends, then per band
 of distance to the goal the share of the steps spent there, the mean teacher and student
 speeds and turn rates (in units of the robot's limits) and the RMS difference, and the
-share of steps where the turn has the wrong sign or less than half the teacher's size.
+share of steps where the turn has the wrong sign or less than half the teacher's size, and
+where the time-outs stopped in the goal's frame (short of the goal or past it, in the cone of
+``MapPlanner``'s docking law or not).
 With ``--restart``, the teacher then drives from each time-out's last state (the same room,
 the student's final pose as the start): if it cannot park from there either, the student
 stopped where its teacher's command field stops too.
@@ -26,6 +28,7 @@ import numpy as np
 
 from agents import load
 from agents.analytic import make_analytic
+from agents.analytic.docking import goal_frame, in_docking_cone
 from agents.learned.distill_config import PRIVILEGED
 from agents.learned.sb3_vec_env import make_vec_env
 from agents.runner import run_episode
@@ -111,8 +114,23 @@ def main() -> None:
             f" | {sv.mean():+.2f}, {sw.mean():+.2f} | {rms[0]:.3f}, {rms[1]:.3f}"
             f" | {wrong:.0%} | {small:.0%} |"
         )
+    if timeouts:
+        print(where(timeouts))
     if args.restart and timeouts:
         print(restart(meta, student.env_kwargs, teacher, args.seed, timeouts))
+
+
+def where(timeouts: list[tuple[int, np.ndarray, np.ndarray]]) -> str:
+    """Return a line: where the time-outs stopped, in the goal's frame."""
+    frames = np.array([goal_frame(pose, goal) for _, pose, goal in timeouts])
+    x_g, y_g, phi = frames.T
+    cone = sum(in_docking_cone(x, y, cone=0.3, band=0.015) for x, y in zip(x_g, y_g, strict=True))
+    return (
+        f"the {len(timeouts)} time-outs in the goal's frame: {int((x_g < 0).sum())} short of the "
+        f"goal, {cone} in the docking cone (0.3 rad, 1.5 cm band); median |x| "
+        f"{np.median(np.abs(x_g)) * 100:.1f} cm, |y| {np.median(np.abs(y_g)) * 100:.1f} cm, "
+        f"|heading error| {np.degrees(np.median(np.abs(phi))):.0f} deg"
+    )
 
 
 def restart(
