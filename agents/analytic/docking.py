@@ -17,9 +17,9 @@ near the goal the turn is dominated by the heading error (the lateral term is a 
 two small offsets), which an image resolves well, unlike the bearing to a goal a few
 centimetres away.
 
-This is the classic line-tracking law of unicycle control (Samson; Canudas de Wit, Siciliano
-and Bastin, *Theory of Robot Control*, 1996, ch. 7), not the paper's: the paper's smooth law
-is :mod:`agents.analytic.smooth_control`.
+This is the classic line-tracking law of unicycle control (after Samson; see Canudas de Wit,
+Siciliano and Bastin, *Theory of Robot Control*, Springer, 1996), not the paper's: the
+paper's smooth law is :mod:`agents.analytic.smooth_control`.
 """
 
 from __future__ import annotations

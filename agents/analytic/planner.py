@@ -282,11 +282,11 @@ class MapPlanner:
         radians of the goal heading line, or within ``goal_tolerance`` of that line, the
         line-following docking law of :mod:`agents.analytic.docking` instead of the follower
         and ``align_radius``'s blend: lateral gain ``line_lateral_gain``, rad/m^2, at most
-        ``line_speed`` m/s (its steering gain, ``2 sqrt(line_lateral_gain) * speed``, stays
-        below ``1 / control_dt``). Its turn near the goal is mostly the heading error, which
-        an image resolves, where the follower's is the bearing to a point centimetres away.
-        A teacher (:mod:`agents.learned.distill`) uses it with ``approach``, which brings the
-        robot into the cone.
+        ``line_speed`` m/s (keep its steering gain, ``2 sqrt(line_lateral_gain) *
+        line_speed``, below ``1 / control_dt``: 4.5/s by default). Its turn near the goal is
+        mostly the heading error, which an image resolves, where the follower's is the
+        bearing to a point centimetres away. A teacher (:mod:`agents.learned.distill`) uses
+        it with ``approach``, which brings the robot into the cone.
 
     Raises
     ------
