@@ -115,19 +115,24 @@ def main() -> None:
             f" | {wrong:.0%} | {small:.0%} |"
         )
     if timeouts:
-        print(where(timeouts))
+        print(where(timeouts, teacher))
     if args.restart and timeouts:
         print(restart(meta, student.env_kwargs, teacher, args.seed, timeouts))
 
 
-def where(timeouts: list[tuple[int, np.ndarray, np.ndarray]]) -> str:
-    """Return a line: where the time-outs stopped, in the goal's frame."""
+def where(timeouts: list[tuple[int, np.ndarray, np.ndarray]], teacher: object) -> str:
+    """Return a line: where the time-outs stopped, in the goal's frame.
+
+    The docking cone is the teacher's (``MapPlanner``'s ``line_cone`` and ``goal_tolerance``
+    band), whether or not its ``line_radius`` switches the docking law on.
+    """
     frames = np.array([goal_frame(pose, goal) for _, pose, goal in timeouts])
     x_g, y_g, phi = frames.T
-    cone = sum(in_docking_cone(x, y, cone=0.3, band=0.015) for x, y in zip(x_g, y_g, strict=True))
+    angle, band = float(teacher.line_cone), float(teacher.goal_tolerance)  # type: ignore[attr-defined]
+    cone = sum(in_docking_cone(x, y, angle, band) for x, y in zip(x_g, y_g, strict=True))
     return (
         f"the {len(timeouts)} time-outs in the goal's frame: {int((x_g < 0).sum())} short of the "
-        f"goal, {cone} in the docking cone (0.3 rad, 1.5 cm band); median |x| "
+        f"goal, {cone} in the docking cone ({angle:g} rad, {band * 100:g} cm band); median |x| "
         f"{np.median(np.abs(x_g)) * 100:.1f} cm, |y| {np.median(np.abs(y_g)) * 100:.1f} cm, "
         f"|heading error| {np.degrees(np.median(np.abs(phi))):.0f} deg"
     )

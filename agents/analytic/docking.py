@@ -29,9 +29,24 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["goal_frame", "in_docking_cone", "line_docking"]
+__all__ = ["goal_frame", "in_docking_cone", "line_docking", "ramp"]
 
 F64 = NDArray[np.float64]
+
+
+def ramp(distance: float, limit: float, accel: float, gain: float) -> float:
+    """Return the speed that stops on ``distance``: proportional, limited, ramped down.
+
+    Parameters
+    ----------
+    distance
+        What is left to cover, metres or radians (``>= 0``).
+    limit, accel
+        The speed and acceleration limits, per second and per second squared.
+    gain
+        The proportional gain, 1/s.
+    """
+    return min(limit, gain * distance, math.sqrt(2.0 * accel * distance))
 
 
 def goal_frame(pose: F64, goal: F64) -> tuple[float, float, float]:
@@ -101,12 +116,8 @@ def line_docking(
     max_turn, max_turn_accel
         The robot's angular speed and acceleration limits, rad/s and rad/s^2.
     """
-
-    def ramp(distance: float, limit: float, accel: float) -> float:
-        return min(limit, gain * distance, math.sqrt(2.0 * accel * distance))
-
     along = -(x_g * math.cos(phi) + y_g * math.sin(phi))  # the goal's foot on the heading line
-    v = math.copysign(ramp(abs(along), max_speed, max_accel), along)
+    v = math.copysign(ramp(abs(along), max_speed, max_accel, gain), along)
     steer = -lateral_gain * v * y_g - 2.0 * math.sqrt(lateral_gain) * abs(v) * phi
-    omega = steer - math.copysign(ramp(abs(phi), max_turn, max_turn_accel), phi)
+    omega = steer - math.copysign(ramp(abs(phi), max_turn, max_turn_accel, gain), phi)
     return v, float(np.clip(omega, -max_turn, max_turn))

@@ -32,7 +32,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from agents.analytic.docking import goal_frame, in_docking_cone, line_docking
+from agents.analytic.docking import goal_frame, in_docking_cone, line_docking, ramp
 from agents.analytic.pose_oracle import PoseOracle
 from radial_ibvs_gym.physics import RobotConfig
 
@@ -462,8 +462,8 @@ class MapPlanner:
             pose = np.asarray(row["robot_pose"], dtype=np.float64)
             if self._oracle is not None and self._near_goal(plans[i], pose, self.final_radius):
                 actions[i] = self._oracle.predict(row)[0]
-            elif self.line_radius > 0 and self._docking(plans[i], pose):
-                actions[i] = self._dock(plans[i], pose)
+            elif (docking := self._dock(plans[i], pose)) is not None:
+                actions[i] = docking
             elif self.align_radius > 0 and self._near_goal(plans[i], pose, self.align_radius):
                 actions[i] = self._align(plans[i], pose)
             else:
@@ -476,18 +476,21 @@ class MapPlanner:
         last = plan.index >= len(plan.waypoints) - 1
         return last and math.hypot(goal[0] - pose[0], goal[1] - pose[1]) < radius
 
-    def _docking(self, plan: Plan, pose: F64) -> bool:
-        """Whether the docking law of ``line_radius`` commands the robot."""
-        if not self._near_goal(plan, pose, self.line_radius):
-            return False
-        x_g, y_g, _ = goal_frame(pose, self._goal_pose(plan))
-        return in_docking_cone(x_g, y_g, self.line_cone, self.goal_tolerance)
+    def _dock(self, plan: Plan, pose: F64) -> np.ndarray | None:
+        """Return the docking law's command (``line_radius``), action units, or ``None``.
 
-    def _dock(self, plan: Plan, pose: F64) -> np.ndarray:
-        """Return the docking law's command (``line_radius``), action units."""
+        ``None`` where the law does not apply: off, not near the goal, or outside its cone.
+        """
+        if self.line_radius <= 0 or not self._near_goal(plan, pose, self.line_radius):
+            return None
+        x_g, y_g, phi = goal_frame(pose, self._goal_pose(plan))
+        if not in_docking_cone(x_g, y_g, self.line_cone, self.goal_tolerance):
+            return None
         robot = self.robot
         v, omega = line_docking(
-            *goal_frame(pose, self._goal_pose(plan)),
+            x_g,
+            y_g,
+            phi,
             gain=self.gain,
             lateral_gain=self.line_lateral_gain,
             max_speed=min(robot.max_linear_speed, self.line_speed),
@@ -532,7 +535,7 @@ class MapPlanner:
 
     def _ramp(self, distance: float, limit: float, accel: float) -> float:
         """Return the speed that stops on ``distance``: proportional, limited, ramped down."""
-        return min(limit, self.gain * distance, math.sqrt(2.0 * accel * distance))
+        return ramp(distance, limit, accel, self.gain)
 
     def _follow(self, plan: Plan, pose: F64) -> np.ndarray:
         """Return the turn-drive-turn command towards the next waypoint (action units)."""
