@@ -8,7 +8,7 @@ import numpy as np
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from agents.analytic.docking import goal_frame, in_docking_cone, line_docking
+from agents.analytic.docking import goal_frame, in_docking_cone, line_docking, turn_in_place
 from radial_ibvs_gym.physics import RobotConfig
 
 ROBOT = RobotConfig()
@@ -97,3 +97,31 @@ def test_past_the_goal_in_the_band_it_backs_up(x_g, y_g, phi) -> None:
     end = _dock(x_g, y_g, phi)
     assert math.hypot(end[0], end[1]) < 0.02, end
     assert abs(end[2]) < math.radians(2.0), end
+
+
+TURN = {"max_turn": ROBOT.max_angular_speed, "max_turn_accel": ROBOT.max_angular_accel}
+
+
+@settings(max_examples=200, deadline=None)
+@given(angle, st.floats(0.5, 9.5))
+def test_the_turn_in_place_reduces_the_heading_error_every_step(phi, gain) -> None:
+    """Against the heading error, within the limits, odd in it, and with a gain below
+    1 / dt each 0.1 s step shrinks the error without overshoot to under 2 deg."""
+    omega = turn_in_place(phi, gain=gain, **TURN)
+    assert abs(omega) <= ROBOT.max_angular_speed + 1e-12
+    assert omega * phi <= 0.0
+    assert turn_in_place(-phi, gain=gain, **TURN) == -omega
+    heading = phi
+    for _ in range(200):
+        after = heading + 0.1 * turn_in_place(heading, gain=gain, **TURN)
+        assert abs(after) <= abs(heading) and after * heading >= 0.0
+        heading = after
+    assert abs(heading) < math.radians(2.0)
+
+
+def test_the_turn_in_place_is_proportional_near_zero() -> None:
+    """6/s of gain: 2 deg gives 0.21 rad/s (0.04 of the turn range), 6 deg three times that."""
+    two = turn_in_place(math.radians(2.0), gain=6.0, **TURN)
+    assert math.isclose(two, -6.0 * math.radians(2.0))
+    assert math.isclose(turn_in_place(math.radians(6.0), gain=6.0, **TURN), 3.0 * two)
+    assert turn_in_place(0.0, gain=6.0, **TURN) == 0.0

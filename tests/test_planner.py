@@ -337,9 +337,40 @@ def test_the_docking_law_parks_from_the_cone_and_turns_by_the_heading_error() ->
     assert v == 0.0 and omega < 0.0
 
 
+def test_within_turn_radius_it_turns_in_place_and_parks() -> None:
+    """With turn_radius, from up to 1.8 cm off the goal and any heading, the teacher stands
+    and turns (speed 0), and parks 10 of 10 rooms without leaving the spot."""
+    env = gym.make(
+        "RadialIBVS/Parking-v0", scenario="random", physics="kinematic", privileged=True,
+        privileged_map=True,
+    )  # fmt: skip
+    planner = MapPlanner(
+        goal_tolerance=0.015, waypoint_tolerance=0.1, hold_radius=0.0, drive_gate=1.57,
+        reverse=False, align_radius=0.04, approach=0.5, align_unblock=True, line_radius=0.3,
+        turn_radius=0.018, turn_gain=6.0,
+    )  # fmt: skip
+    rng = np.random.default_rng(2)
+    for k in range(10):
+        _, info = env.reset(seed=10_000 + k)
+        g = np.asarray(info["goal_pose"], dtype=np.float64)
+        bearing, offset = rng.uniform(-np.pi, np.pi), rng.uniform(0.0, 0.017)
+        start = g + np.array([offset * np.cos(bearing), offset * np.sin(bearing), 0.0])
+        start[2] = g[2] + rng.uniform(-np.pi, np.pi)
+        result = run_episode(planner, env, seed=10_000 + k, options={"start": start})
+        assert result.success, k
+        assert np.allclose(result.poses[:, :2], start[:2], atol=1e-6), k  # never moved
+    env.close()
+    plan = Plan(waypoints=np.array([[-1.0, 0.0], [0.0, 0.0]]), goal_yaw=0.0)
+    v, omega = planner._turn(plan, np.array([0.01, 0.0, np.radians(-6.0)]))
+    assert v == 0.0
+    assert np.isclose(omega, 6.0 * np.radians(6.0) / planner.robot.max_angular_speed)
+
+
 @pytest.mark.parametrize(
     ("kwargs", "match"),
     [
+        ({"turn_radius": -0.01}, "turn_radius must be finite and positive, got -0.01"),
+        ({"turn_gain": 0.0}, "turn_gain must be finite and positive, got 0.0"),
         ({"line_cone": 1.6}, "line_cone must be below pi/2 radians, got 1.6"),
         ({"line_radius": -0.1}, "line_radius must be finite and positive, got -0.1"),
         ({"line_radius": 0.3, "final_radius": 0.3}, "line_radius .* and final_radius"),

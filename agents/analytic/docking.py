@@ -29,7 +29,7 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
-__all__ = ["goal_frame", "in_docking_cone", "line_docking", "ramp"]
+__all__ = ["goal_frame", "in_docking_cone", "line_docking", "ramp", "turn_in_place"]
 
 F64 = NDArray[np.float64]
 
@@ -121,3 +121,23 @@ def line_docking(
     steer = -lateral_gain * v * y_g - 2.0 * math.sqrt(lateral_gain) * abs(v) * phi
     omega = steer - math.copysign(ramp(abs(phi), max_turn, max_turn_accel, gain), phi)
     return v, float(np.clip(omega, -max_turn, max_turn))
+
+
+def turn_in_place(phi: float, *, gain: float, max_turn: float, max_turn_accel: float) -> float:
+    """Return the turn rate that brings the heading error ``phi`` to zero in place, rad/s.
+
+    ``omega = -sign(phi) * min(max_turn, gain * |phi|, sqrt(2 * max_turn_accel * |phi|))``;
+    the speed is zero, so the position stays where it is (the pose is the wheel axle's
+    midpoint). Within the success radius this is the shortest way to park, and its command
+    depends on the heading error alone, which an image resolves well.
+
+    Parameters
+    ----------
+    phi
+        The heading minus the goal heading (:func:`goal_frame`), radians.
+    gain
+        Proportional gain, 1/s (keep it below ``1 / control_dt`` for a monotone approach).
+    max_turn, max_turn_accel
+        The robot's angular speed and acceleration limits, rad/s and rad/s^2.
+    """
+    return -math.copysign(ramp(abs(phi), max_turn, max_turn_accel, gain), phi)

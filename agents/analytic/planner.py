@@ -32,7 +32,13 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from agents.analytic.docking import goal_frame, in_docking_cone, line_docking, ramp
+from agents.analytic.docking import (
+    goal_frame,
+    in_docking_cone,
+    line_docking,
+    ramp,
+    turn_in_place,
+)
 from agents.analytic.pose_oracle import PoseOracle
 from radial_ibvs_gym.physics import RobotConfig
 
@@ -287,6 +293,15 @@ class MapPlanner:
         mostly the heading error, which an image resolves, where the follower's is the
         bearing to a point centimetres away. A teacher (:mod:`agents.learned.distill`) uses
         it with ``approach``, which brings the robot into the cone.
+    turn_radius, turn_gain
+        ``0`` (the default): off. ``> 0``: within ``turn_radius`` metres of the goal, on the
+        path's last segment, the robot stands and turns in place to the goal heading
+        (:func:`~agents.analytic.docking.turn_in_place`, proportional gain ``turn_gain``, 1/s,
+        below ``1 / control_dt``), before any other rule. Set it under the env's success
+        radius: the episode then succeeds once the heading is within tolerance. A teacher
+        (:mod:`agents.learned.distill`) uses it: its label there is a function of the heading
+        error alone, and a larger gain than ``gain`` makes the last degrees' turn labels
+        larger than an image-only student's fitting error.
 
     Raises
     ------
@@ -316,6 +331,8 @@ class MapPlanner:
         line_cone: float = 0.3,
         line_lateral_gain: float = 900.0,
         line_speed: float = 0.15,
+        turn_radius: float = 0.0,
+        turn_gain: float = 6.0,
     ) -> None:
         _import_ompl()
         if isinstance(min_visible, bool) or not isinstance(min_visible, int) or min_visible < 0:
@@ -339,6 +356,8 @@ class MapPlanner:
             "line_cone": line_cone,
             "line_lateral_gain": line_lateral_gain,
             "line_speed": line_speed,
+            "turn_radius": turn_radius,
+            "turn_gain": turn_gain,
         }
         for name, value in values.items():
             zero_ok = name in (
@@ -351,6 +370,7 @@ class MapPlanner:
                 "line_radius",
                 "line_cone",
                 "line_lateral_gain",
+                "turn_radius",
             )
             if not (math.isfinite(value) and value >= 0 and (value > 0 or zero_ok)):
                 raise ValueError(f"{name} must be finite and positive, got {value!r}")
@@ -370,6 +390,7 @@ class MapPlanner:
         self.align_unblock = align_unblock
         self.line_radius, self.line_lateral_gain = float(line_radius), float(line_lateral_gain)
         self.line_cone, self.line_speed = float(line_cone), float(line_speed)
+        self.turn_radius, self.turn_gain = float(turn_radius), float(turn_gain)
         if self.line_cone >= math.pi / 2:
             raise ValueError(f"line_cone must be below pi/2 radians, got {line_cone!r}")
         if self.line_radius > 0 and self.final_radius > 0:
@@ -462,6 +483,8 @@ class MapPlanner:
             pose = np.asarray(row["robot_pose"], dtype=np.float64)
             if self._oracle is not None and self._near_goal(plans[i], pose, self.final_radius):
                 actions[i] = self._oracle.predict(row)[0]
+            elif self.turn_radius > 0 and self._near_goal(plans[i], pose, self.turn_radius):
+                actions[i] = self._turn(plans[i], pose)
             elif (docking := self._dock(plans[i], pose)) is not None:
                 actions[i] = docking
             elif self.align_radius > 0 and self._near_goal(plans[i], pose, self.align_radius):
@@ -499,6 +522,18 @@ class MapPlanner:
             max_turn_accel=robot.max_angular_accel,
         )
         return np.array([v / robot.max_linear_speed, omega / robot.max_angular_speed])
+
+    def _turn(self, plan: Plan, pose: F64) -> np.ndarray:
+        """Return the turn in place to the goal heading (``turn_radius``), action units."""
+        phi = goal_frame(pose, self._goal_pose(plan))[2]
+        robot = self.robot
+        omega = turn_in_place(
+            phi,
+            gain=self.turn_gain,
+            max_turn=robot.max_angular_speed,
+            max_turn_accel=robot.max_angular_accel,
+        )
+        return np.array([0.0, omega / robot.max_angular_speed])
 
     @staticmethod
     def _goal_pose(plan: Plan) -> F64:
