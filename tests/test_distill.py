@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import itertools
 import json
 
 import numpy as np
@@ -275,6 +276,8 @@ def test_dagger_is_deterministic_under_a_seed(student, tmp_path):
         ("  relative_floor: true", "relative_floor"),
         ("  extractor: transformer", "transformer"),
         ("  angle_keys: [points]", "angle_keys"),
+        ("  final_learning_rate: 0.5", r"final_learning_rate .*up to learning_rate"),
+        ("  final_learning_rate: -1.0e-4", "final_learning_rate"),
     ],
 )
 def test_config_errors_name_the_key(tmp_path, line, match):
@@ -282,6 +285,31 @@ def test_config_errors_name_the_key(tmp_path, line, match):
     path.write_text(SMALL + line + "\n")
     with pytest.raises(ValueError, match=match):
         load_dagger_config(path)
+
+
+def test_each_rounds_fit_anneals_the_step_size_from_the_full_one(tmp_path):
+    """final_learning_rate: every round starts at learning_rate and ends at the final one,
+    along a cosine (half-way: the mean); without it the step size is left alone."""
+    from agents.learned.distill import round_schedule
+
+    path = tmp_path / "config.yaml"
+    path.write_text(SMALL + "  learning_rate: 0.001\n  final_learning_rate: 0.0001\n")
+    config = load_dagger_config(path)
+    weight = torch.nn.Parameter(torch.zeros(1))
+    optimiser = torch.optim.Adam([weight], lr=config.learning_rate)
+    for _ in range(2):  # two rounds
+        schedule = round_schedule(optimiser, config)
+        seen = [optimiser.param_groups[0]["lr"]]
+        for _ in range(config.updates_per_round):
+            optimiser.step()
+            schedule.step()
+            seen.append(optimiser.param_groups[0]["lr"])
+        assert seen[0] == pytest.approx(1e-3) and seen[-1] == pytest.approx(1e-4)
+        assert all(a >= b for a, b in itertools.pairwise(seen))
+        half = seen[config.updates_per_round // 2]
+        assert half == pytest.approx(5.5e-4, rel=0.05)
+    path.write_text(SMALL)
+    assert round_schedule(optimiser, load_dagger_config(path)) is None
 
 
 def test_a_landmark_set_student_is_stored_without_a_pickle_and_loads(tmp_path):

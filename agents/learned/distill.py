@@ -42,7 +42,14 @@ from agents.learned.distill_config import (
 from agents.learned.extractors import error_key_of, raw_keys
 from agents.learned.history import HistoryConfig, HistoryStack, history_space
 
-__all__ = ["DaggerConfig", "dagger", "dataset_labels", "goal_in_robot_frame", "load_dagger_config"]
+__all__ = [
+    "DaggerConfig",
+    "dagger",
+    "dataset_labels",
+    "goal_in_robot_frame",
+    "load_dagger_config",
+    "round_schedule",
+]
 
 
 class _Dataset:
@@ -335,6 +342,24 @@ def action_loss(actions: Any, labels: Any, weights: Any, relative_floor: float =
     return (error**2 * weights).mean()
 
 
+def round_schedule(optimiser: Any, config: DaggerConfig) -> Any:
+    """Return the step-size schedule of one round's fit, or ``None`` for a constant one.
+
+    With ``config.final_learning_rate``, the optimiser's step size is reset to
+    ``config.learning_rate`` and a ``CosineAnnealingLR`` brings it to ``final_learning_rate``
+    over ``config.updates_per_round`` steps (call its ``step()`` after each optimiser step).
+    """
+    if config.final_learning_rate is None:
+        return None
+    import torch
+
+    for group in optimiser.param_groups:  # each round starts from the full step size
+        group["lr"] = config.learning_rate
+    return torch.optim.lr_scheduler.CosineAnnealingLR(
+        optimiser, T_max=config.updates_per_round, eta_min=config.final_learning_rate
+    )
+
+
 def _fit(
     policy: Any,
     aux_head: Any,
@@ -351,6 +376,7 @@ def _fit(
     if config.balance_actions:  # each action component weighted by 1 / its label variance
         variance = np.maximum(dataset.labels[: dataset.count, :2].var(axis=0), 1e-6)
         weights = torch.as_tensor((1.0 / variance) / np.mean(1.0 / variance), dtype=torch.float32)
+    schedule = round_schedule(optimiser, config)
     for _ in range(config.updates_per_round):
         obs, labels = dataset.sample(config.batch_size)
         tensors = {k: torch.as_tensor(v) for k, v in normalise(obs).items()}
@@ -366,6 +392,8 @@ def _fit(
         optimiser.zero_grad()
         loss.backward()
         optimiser.step()
+        if schedule is not None:
+            schedule.step()
         losses.append(loss.item())
     policy.set_training_mode(False)
     tail = losses[-max(len(losses) // 10, 1) :]

@@ -47,6 +47,11 @@ class DaggerConfig:
         ``beta_decay`` each round.
     updates_per_round, batch_size, learning_rate
         Gradient steps after each round, their batch size and Adam's step size.
+    final_learning_rate
+        ``None`` (the default): Adam's step size stays ``learning_rate``. A number: each
+        round's gradient steps anneal it from ``learning_rate`` to this along a cosine
+        (``torch.optim.lr_scheduler.CosineAnnealingLR``), so that each round ends on a fit
+        below the noise floor of the constant step size.
     dataset_size
         The largest number of labelled states kept (older ones are replaced at random).
     net_arch
@@ -100,6 +105,7 @@ class DaggerConfig:
     updates_per_round: int = 2_000
     batch_size: int = 4_096
     learning_rate: float = 1e-3
+    final_learning_rate: float | None = None
     dataset_size: int = 2_000_000
     net_arch: tuple[int, ...] = (256, 256)
     activation: str = "relu"
@@ -174,6 +180,19 @@ def load_dagger_config(path: Path | str) -> DaggerConfig:
         if not isinstance(value, int | float) or not (math.isfinite(value) and value > 0):
             raise ValueError(f"{where}.learning_rate must be a positive number, got {value!r}")
         values["learning_rate"] = float(value)
+    if section.get("final_learning_rate") is not None:
+        value = section["final_learning_rate"]
+        top = values.get("learning_rate", DaggerConfig.learning_rate)
+        if (
+            isinstance(value, bool)
+            or not isinstance(value, int | float)
+            or not (math.isfinite(value) and 0 < value <= top)
+        ):
+            raise ValueError(
+                f"{where}.final_learning_rate must be a positive number up to learning_rate "
+                f"({top!r}), got {value!r}"
+            )
+        values["final_learning_rate"] = float(value)
     for key in ("env_kwargs", "teacher_kwargs"):
         if key in section:
             if not isinstance(section[key], Mapping):
