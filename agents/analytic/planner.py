@@ -393,6 +393,11 @@ class MapPlanner:
         self.turn_radius, self.turn_gain = float(turn_radius), float(turn_gain)
         if self.line_cone >= math.pi / 2:
             raise ValueError(f"line_cone must be below pi/2 radians, got {line_cone!r}")
+        if self.turn_radius > 0 and self.final_radius > 0:
+            raise ValueError(
+                f"turn_radius ({turn_radius!r}) and final_radius ({final_radius!r}) both "
+                "take over near the goal: set one of them to 0"
+            )
         if self.line_radius > 0 and self.final_radius > 0:
             raise ValueError(
                 f"line_radius ({line_radius!r}) and final_radius ({final_radius!r}) both "
