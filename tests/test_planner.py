@@ -266,13 +266,26 @@ def test_the_approach_arrives_along_the_goal_heading() -> None:
     assert medians[0] > 45.0 and medians[1] < 20.0, medians
 
 
-def test_align_unblock_leaves_no_stall_point_near_the_goal() -> None:
-    """From 3 cm off the goal with the heading up to 90 deg off, the blend of align_radius
-    stands still for good in some rooms (its two commands cancel); align_unblock parks all."""
-    env = gym.make(
+def _teacher_env() -> gym.Env:
+    """A random-room env with the planner's privileged observation."""
+    return gym.make(
         "RadialIBVS/Parking-v0", scenario="random", physics="kinematic", privileged=True,
         privileged_map=True,
     )  # fmt: skip
+
+
+#: the docking-law teacher's arguments (configs/agents/dagger_planner_set_line.yaml)
+LINE_TEACHER = {
+    "goal_tolerance": 0.015, "waypoint_tolerance": 0.1, "hold_radius": 0.0, "drive_gate": 1.57,
+    "reverse": False, "align_radius": 0.04, "approach": 0.5, "align_unblock": True,
+    "line_radius": 0.3,
+}  # fmt: skip
+
+
+def test_align_unblock_leaves_no_stall_point_near_the_goal() -> None:
+    """From 3 cm off the goal with the heading up to 90 deg off, the blend of align_radius
+    stands still for good in some rooms (its two commands cancel); align_unblock parks all."""
+    env = _teacher_env()
     rng = np.random.default_rng(0)
     starts = []
     for k in range(20):
@@ -306,14 +319,8 @@ def test_the_docking_law_parks_from_the_cone_and_turns_by_the_heading_error() ->
     """With line_radius, from 3-25 cm behind the goal in its cone (heading up to 30 deg off)
     and from just past it, the teacher parks 20 of 20 rooms; near the goal its turn is the
     docking law's, a function of the heading error and offsets, not of a bearing."""
-    env = gym.make(
-        "RadialIBVS/Parking-v0", scenario="random", physics="kinematic", privileged=True,
-        privileged_map=True,
-    )  # fmt: skip
-    planner = MapPlanner(
-        goal_tolerance=0.015, waypoint_tolerance=0.1, hold_radius=0.0, drive_gate=1.57,
-        reverse=False, align_radius=0.04, approach=0.5, align_unblock=True, line_radius=0.3,
-    )  # fmt: skip
+    env = _teacher_env()
+    planner = MapPlanner(**LINE_TEACHER)
     rng = np.random.default_rng(1)
     parked = 0
     for k in range(20):
@@ -340,15 +347,8 @@ def test_the_docking_law_parks_from_the_cone_and_turns_by_the_heading_error() ->
 def test_within_turn_radius_it_turns_in_place_and_parks() -> None:
     """With turn_radius, from up to 1.8 cm off the goal and any heading, the teacher stands
     and turns (speed 0), and parks 10 of 10 rooms without leaving the spot."""
-    env = gym.make(
-        "RadialIBVS/Parking-v0", scenario="random", physics="kinematic", privileged=True,
-        privileged_map=True,
-    )  # fmt: skip
-    planner = MapPlanner(
-        goal_tolerance=0.015, waypoint_tolerance=0.1, hold_radius=0.0, drive_gate=1.57,
-        reverse=False, align_radius=0.04, approach=0.5, align_unblock=True, line_radius=0.3,
-        turn_radius=0.018, turn_gain=6.0,
-    )  # fmt: skip
+    env = _teacher_env()
+    planner = MapPlanner(**LINE_TEACHER, turn_radius=0.018, turn_gain=6.0)
     rng = np.random.default_rng(2)
     for k in range(10):
         _, info = env.reset(seed=10_000 + k)
