@@ -312,15 +312,19 @@ def test_each_rounds_fit_anneals_the_step_size_from_the_full_one(tmp_path):
     assert round_schedule(optimiser, load_dagger_config(path)) is None
 
 
-def test_a_landmark_set_student_is_stored_without_a_pickle_and_loads(tmp_path):
+@pytest.mark.parametrize(
+    ("extractor", "cls"),
+    [("landmark_set", "LandmarkSetExtractor"), ("landmark_pose", "LandmarkPoseExtractor")],
+)
+def test_a_landmark_set_student_is_stored_without_a_pickle_and_loads(tmp_path, extractor, cls):
     path = tmp_path / "config.yaml"
     small = SMALL.replace("  history: {frames: 3}\n", "").replace("rounds: 2", "rounds: 1")
-    path.write_text(small + "  extractor: landmark_set\n")
+    path.write_text(small + f"  extractor: {extractor}\n")
     config = load_dagger_config(path)
-    assert config.extractor == "landmark_set"
+    assert config.extractor == extractor
     out = dagger(config, tmp_path / "student", seed=0, progress=False)
     policy = load(out)
-    assert "LandmarkSetExtractor" in (out / "policy.json").read_text()
+    assert cls in (out / "policy.json").read_text()
     files = np.load(out / "normalization.npz").files
     normalised = {k.split("/", 1)[1] for k in files if k.startswith("mean/")}
     assert "landmark_mask" in normalised  # the extractor reads the landmark keys raw:

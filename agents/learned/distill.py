@@ -137,7 +137,7 @@ def dagger(
         config.env_id, config.n_envs, seed=seed, monitor=False, **config.env_kwargs, **PRIVILEGED
     )
     teacher = make_analytic(config.teacher, **config.teacher_kwargs)
-    landmark_set = config.extractor == "landmark_set"
+    landmark_set = config.extractor in ("landmark_set", "landmark_pose")
     model = PPO(
         "MultiInputPolicy",
         spaces_env(student_space, venv.action_space),

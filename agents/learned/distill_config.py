@@ -18,7 +18,11 @@ __all__ = ["ACTIVATIONS", "EXTRACTORS", "PRIVILEGED", "DaggerConfig", "load_dagg
 #: the student's activations, by name (torch.nn classes)
 ACTIVATIONS = {"relu": "ReLU", "tanh": "Tanh"}
 #: the student's feature extractors, by name (classes of :mod:`agents.learned.extractors`)
-EXTRACTORS = {"error_scale": "ErrorScaleExtractor", "landmark_set": "LandmarkSetExtractor"}
+EXTRACTORS = {
+    "error_scale": "ErrorScaleExtractor",
+    "landmark_set": "LandmarkSetExtractor",
+    "landmark_pose": "LandmarkPoseExtractor",
+}
 #: what the teacher needs added to the observation (the planner's poses and map)
 PRIVILEGED = {"privileged": True, "privileged_map": True}
 
@@ -72,9 +76,11 @@ class DaggerConfig:
         Error keys that are wrapped angles, given continuously across the wrap
         (``angle_keys`` of :class:`agents.learned.extractors.ErrorScaleExtractor`).
     extractor
-        ``error_scale`` (:class:`agents.learned.extractors.ErrorScaleExtractor`) or
+        ``error_scale`` (:class:`agents.learned.extractors.ErrorScaleExtractor`),
         ``landmark_set`` (:class:`agents.learned.extractors.LandmarkSetExtractor`: the same
-        features plus a learned encoding of the landmarks as a set).
+        features plus a learned encoding of the landmarks as a set) or ``landmark_pose``
+        (:class:`agents.learned.extractors.LandmarkPoseExtractor`: those plus the goal's
+        pose solved from the image's bearings).
     balance_actions
         Weight each action component's squared error by the inverse of its label variance
         (the turn labels vary about 7 times less than the speed labels, and an unweighted fit

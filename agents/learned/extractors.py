@@ -25,11 +25,14 @@ import torch
 from gymnasium import spaces
 from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
 
+from agents.learned.pose_layer import POSE_FEATURES, goal_pose_features
+
 __all__ = [
     "ERROR_KEYS",
     "LANDMARK_KEYS",
     "POINT_KEYS",
     "ErrorScaleExtractor",
+    "LandmarkPoseExtractor",
     "LandmarkSetExtractor",
     "error_key_of",
     "raw_keys",
@@ -245,3 +248,55 @@ class LandmarkSetExtractor(ErrorScaleExtractor):
     def extra_repr(self) -> str:
         """Return the settings, for ``print(policy)``."""
         return f"{super().extra_repr()}, token_dim={self.token_dim}"
+
+
+class LandmarkPoseExtractor(LandmarkSetExtractor):
+    """:class:`LandmarkSetExtractor`'s features, plus the goal's pose solved from the image.
+
+    The landmark tokens hold the coefficients of each landmark's bearing constraint, but a
+    pooled encoding leaves the network to solve the constraints jointly, and near the goal,
+    where parking needs the last centimetre and degree, its estimate is coarsest. Here the
+    constraints are solved in closed form (:func:`agents.learned.pose_layer.solve_goal_pose`:
+    a least-squares fit over every landmark seen in both images, no parameters) and the
+    solved pose is appended as :func:`agents.learned.pose_layer.goal_pose_features`: the
+    goal's position in the robot's frame, the robot's in the goal's, the heading error, each
+    also as a soft sign sharp within ``pose_eps`` metres, and a validity flag (three
+    landmarks or more). Nothing decides the action but the network.
+
+    Parameters
+    ----------
+    observation_space, error_keys, eps, point_error, token_dim, angle_keys
+        As :class:`LandmarkSetExtractor`.
+    pose_eps
+        The soft signs' scale, metres (and the heading's, radians).
+    """
+
+    def __init__(
+        self,
+        observation_space: spaces.Dict,
+        error_keys: tuple[str, ...] | list[str] = ERROR_KEYS,
+        eps: float = 1e-3,
+        point_error: bool = True,
+        token_dim: int = 64,
+        angle_keys: tuple[str, ...] | list[str] = (),
+        pose_eps: float = 1e-3,
+    ) -> None:
+        if not (isinstance(pose_eps, (int, float)) and pose_eps > 0):
+            raise ValueError(f"pose_eps must be a positive number, got {pose_eps!r}")
+        super().__init__(observation_space, error_keys, eps, point_error, token_dim, angle_keys)
+        self.pose_eps = float(pose_eps)
+        self._features_dim += POSE_FEATURES
+
+    def forward(self, observations: dict[str, torch.Tensor]) -> torch.Tensor:
+        """Return the ``(B, features_dim)`` features."""
+        b = observations["points"].shape[0]
+        now = observations["points"].float().reshape(b, -1, 2)
+        goal = observations["goal_points"].float().reshape(b, -1, 2)
+        seen = (goal.norm(dim=2) > 0.5) & (observations["visible"].float() > 0.5)
+        depth = observations["goal_depths"].float().reshape(b, -1)
+        pose = goal_pose_features(now, goal, depth, seen.float(), self.pose_eps)
+        return torch.cat([super().forward(observations), pose], dim=1)
+
+    def extra_repr(self) -> str:
+        """Return the settings, for ``print(policy)``."""
+        return f"{super().extra_repr()}, pose_eps={self.pose_eps}"

@@ -1,0 +1,140 @@
+"""The goal's pose solved from radial bearings (agents.learned.pose_layer) and its extractor."""
+
+from __future__ import annotations
+
+import gymnasium as gym
+import numpy as np
+import pytest
+import torch
+from gymnasium import spaces
+from hypothesis import given, settings
+from hypothesis import strategies as st
+
+from agents.learned.distill import goal_in_robot_frame
+from agents.learned.extractors import LandmarkPoseExtractor, LandmarkSetExtractor
+from agents.learned.pose_layer import POSE_FEATURES, goal_pose_features, solve_goal_pose
+
+finite = st.floats(-3.0, 3.0, allow_nan=False)
+
+
+def _scene(seed: int, n: int, tx: float, ty: float, theta: float):
+    """Bearings of ``n`` random landmarks seen from the goal and from a robot whose camera
+    frame holds the goal at ``(tx, ty)``, turned by ``theta``."""
+    rng = np.random.default_rng(seed)
+    radius, angle = rng.uniform(0.5, 5.0, n), rng.uniform(-np.pi, np.pi, n)
+    p = np.stack([radius * np.cos(angle), radius * np.sin(angle)], axis=-1)  # goal frame
+    c, s = np.cos(theta), np.sin(theta)
+    q = p @ np.array([[c, s], [-s, c]]) + [tx, ty]  # R p + t, the robot's frame
+    now = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    goal = p / radius[:, None]
+    return (torch.tensor(a[None]) for a in (now, goal, radius, np.ones(n)))
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    st.integers(0, 10_000), st.integers(3, 16), finite, finite, st.floats(-3.1, 3.1)
+)  # fmt: skip
+def test_the_pose_is_recovered_exactly_from_noise_free_bearings(seed, n, tx, ty, theta):
+    now, goal, depth, mask = _scene(seed, n, tx, ty, theta)
+    pose, valid = solve_goal_pose(now, goal, depth, mask)
+    assert bool(valid[0])
+    np.testing.assert_allclose(pose[0, :2].numpy(), [tx, ty], atol=1e-6)
+    error = np.arctan2(float(pose[0, 3]), float(pose[0, 2])) - theta
+    assert abs(np.angle(np.exp(1j * error))) < 1e-6
+
+
+def test_every_random_scene_solves():
+    # landmarks spread over a room are never degenerate: the validity check does not refuse them
+    solved = [bool(solve_goal_pose(*_scene(s, 4, 0.7, -0.4, 1.0))[1][0]) for s in range(200)]
+    assert all(solved)
+
+
+def test_a_pose_needs_three_landmarks_and_ignores_hidden_slots():
+    now, goal, depth, mask = _scene(3, 5, 0.4, 0.2, -0.5)
+    pose, valid = solve_goal_pose(now, goal, depth, mask)
+    assert bool(valid[0])
+    mask2 = mask.clone()
+    mask2[0, 3:] = 0.0
+    now2 = now.clone()
+    now2[0, 3:] = torch.tensor([0.6, 0.8], dtype=now.dtype)  # whatever a hidden slot holds
+    pose2, valid2 = solve_goal_pose(now2, goal, depth, mask2)
+    assert bool(valid2[0])
+    torch.testing.assert_close(pose2, pose)
+    mask2[0, 2] = 0.0  # two landmarks: a one-parameter family of poses
+    pose3, valid3 = solve_goal_pose(now, goal, depth, mask2)
+    assert not bool(valid3[0]) and bool((pose3 == 0).all())
+    features = goal_pose_features(now, goal, depth, mask2)
+    assert features.shape == (1, POSE_FEATURES) and bool((features == 0).all())  # flag 0
+
+
+def test_the_features_hold_both_frames_and_sharp_soft_signs():
+    # the robot 5 mm behind and 1 mm right of the goal, turned 2 deg from its heading
+    theta = np.radians(2.0)
+    c, s = np.cos(theta), np.sin(theta)
+    r = np.array([-0.005, -0.001])  # the robot in the goal frame
+    t = -np.array([[c, -s], [s, c]]) @ r  # the goal in the robot frame: t = -R r
+    f = goal_pose_features(*_scene(7, 6, t[0], t[1], theta), eps=1e-3)[0].double().numpy()
+    np.testing.assert_allclose(f[:2], t, atol=1e-6)
+    np.testing.assert_allclose(f[5:7], r, atol=1e-6)
+    np.testing.assert_allclose(f[7:9], r / (np.abs(r) + 1e-3), atol=1e-4)
+    assert f[7] < -0.8 and f[8] == pytest.approx(-0.5, abs=1e-3)
+    assert f[9] == pytest.approx(s, abs=1e-6) and f[10] == pytest.approx(c, abs=1e-6)
+    assert f[11] > 0.9 and f[12] == 1.0  # a 2 deg turn is a clear left turn; valid
+
+
+@pytest.mark.parametrize("scenario", ["random", "paper-sim"])
+def test_the_pose_from_the_envs_images_is_the_true_one(scenario):
+    # central and non-central mirrors: the radial lines are the horizontal bearings
+    env = gym.make(
+        "RadialIBVS/Parking-v0", scenario=scenario, physics="kinematic", obs_mode="features",
+        goal_depths=True, max_landmarks=16, privileged=True,
+    )  # fmt: skip
+    solved = 0
+    for episode in range(5):
+        obs, _ = env.reset(seed=episode)
+        for _ in range(10):
+            o = {k: torch.as_tensor(np.asarray(v))[None] for k, v in obs.items()}
+            now, goal = o["points"].reshape(1, -1, 2), o["goal_points"].reshape(1, -1, 2)
+            mask = ((goal.norm(dim=2) > 0.5) & (o["visible"] > 0.5)).double()
+            pose, valid = solve_goal_pose(now, goal, o["goal_depths"], mask)
+            if bool(valid[0]):
+                solved += 1
+                truth = goal_in_robot_frame(obs)[0].astype(np.float64)
+                np.testing.assert_allclose(pose[0, :2].numpy(), 3.0 * truth[:2], atol=1e-4)
+                np.testing.assert_allclose(pose[0, 2:].numpy(), truth[2:], atol=1e-4)
+            obs, *_ = env.step(env.action_space.sample())
+    env.close()
+    assert solved >= 40
+
+
+def _space(n: int = 5) -> spaces.Dict:
+    return spaces.Dict(
+        {
+            "alpha_m_error": spaces.Box(-4, 4, (1,)),
+            "goal_depths": spaces.Box(0, 1e3, (n,)),
+            "goal_points": spaces.Box(-1, 1, (2 * n,)),
+            "points": spaces.Box(-1, 1, (2 * n,)),
+            "visible": spaces.Box(0, 1, (n,)),
+        }
+    )
+
+
+def test_the_pose_extractor_appends_the_pose_to_the_set_features():
+    torch.manual_seed(0)
+    now, goal, depth, _ = _scene(11, 5, 1.0, 0.5, 0.3)
+    obs = {
+        "alpha_m_error": torch.tensor([[0.3]]),
+        "goal_depths": depth.float(),
+        "goal_points": goal.float().reshape(1, -1),
+        "points": now.float().reshape(1, -1),
+        "visible": torch.ones(1, 5),
+    }
+    extractor = LandmarkPoseExtractor(_space(), token_dim=8)
+    torch.manual_seed(0)
+    base = LandmarkSetExtractor(_space(), token_dim=8)
+    assert extractor.features_dim == base.features_dim + POSE_FEATURES
+    out = extractor(obs)
+    torch.testing.assert_close(out[:, : base.features_dim], base(obs))
+    np.testing.assert_allclose(out[0, -POSE_FEATURES:-11].detach().numpy(), [1.0, 0.5], atol=1e-4)
+    with pytest.raises(ValueError, match="pose_eps"):
+        LandmarkPoseExtractor(_space(), pose_eps=0.0)
