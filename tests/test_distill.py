@@ -314,14 +314,19 @@ def test_each_rounds_fit_anneals_the_step_size_from_the_full_one(tmp_path):
 
 @pytest.mark.parametrize(
     ("extractor", "cls"),
-    [("landmark_set", "LandmarkSetExtractor"), ("landmark_pose", "LandmarkPoseExtractor")],
+    [
+        ("landmark_set", "LandmarkSetExtractor"),
+        ("landmark_pose", "LandmarkPoseExtractor"),
+        ("landmark_pose\n  pose_history: true", "LandmarkPoseExtractor"),
+    ],
 )
 def test_a_landmark_set_student_is_stored_without_a_pickle_and_loads(tmp_path, extractor, cls):
     path = tmp_path / "config.yaml"
-    small = SMALL.replace("  history: {frames: 3}\n", "").replace("rounds: 2", "rounds: 1")
-    path.write_text(small + f"  extractor: {extractor}\n")
+    history = "  history: {frames: 3}\n"
+    small = SMALL.replace(history, "" if "history" not in extractor else history)
+    path.write_text(small.replace("rounds: 2", "rounds: 1") + f"  extractor: {extractor}\n")
     config = load_dagger_config(path)
-    assert config.extractor == extractor
+    assert config.extractor == extractor.split()[0]
     out = dagger(config, tmp_path / "student", seed=0, progress=False)
     policy = load(out)
     assert cls in (out / "policy.json").read_text()
@@ -329,6 +334,8 @@ def test_a_landmark_set_student_is_stored_without_a_pickle_and_loads(tmp_path, e
     normalised = {k.split("/", 1)[1] for k in files if k.startswith("mean/")}
     assert "landmark_mask" in normalised  # the extractor reads the landmark keys raw:
     assert not normalised & {"points", "goal_points", "goal_depths", "visible"}
+    if config.pose_history:  # the past frames' points are solved for poses: read raw too
+        assert not any(k.startswith(("points@", "visible@")) for k in normalised)
     venv = make_vec_env("RadialIBVS/Parking-v0", 2, seed=5, monitor=False, **ENV)
     action, _ = policy.predict(venv.reset())
     assert action.shape == (2, 2) and np.isfinite(action).all()

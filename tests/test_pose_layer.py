@@ -138,3 +138,43 @@ def test_the_pose_extractor_appends_the_pose_to_the_set_features():
     np.testing.assert_allclose(out[0, -POSE_FEATURES:-11].detach().numpy(), [1.0, 0.5], atol=1e-4)
     with pytest.raises(ValueError, match="pose_eps"):
         LandmarkPoseExtractor(_space(), pose_eps=0.0)
+
+
+def test_pose_history_solves_each_past_frame():
+    now, goal, depth, _ = _scene(11, 5, 1.0, 0.5, 0.3)
+    past, _, _, _ = _scene(11, 5, 1.2, 0.4, 0.1)  # the same landmarks, from an earlier pose
+    space = _space()
+    space.spaces["points@-1"] = space.spaces["points"]
+    space.spaces["visible@-1"] = space.spaces["visible"]
+    obs = {
+        "alpha_m_error": torch.tensor([[0.3]]),
+        "goal_depths": depth.float(),
+        "goal_points": goal.float().reshape(1, -1),
+        "points": now.float().reshape(1, -1),
+        "visible": torch.ones(1, 5),
+        "points@-1": past.float().reshape(1, -1),
+        "visible@-1": torch.ones(1, 5),
+    }
+    extractor = LandmarkPoseExtractor(space, token_dim=8, pose_history=True)
+    assert extractor.features_dim == LandmarkPoseExtractor(space, token_dim=8).features_dim + 13
+    out = extractor(obs)[0].detach().numpy()
+    np.testing.assert_allclose(out[-26:-24], [1.0, 0.5], atol=1e-4)  # now
+    np.testing.assert_allclose(out[-13:-11], [1.2, 0.4], atol=1e-4)  # a step ago
+    with pytest.raises(ValueError, match="points@-1"):
+        LandmarkPoseExtractor(_space(), pose_history=True)
+
+
+def test_pose_history_needs_the_pose_extractor_and_the_points_history(tmp_path):
+    from agents.learned.distill import load_dagger_config
+
+    path = tmp_path / "c.yaml"
+    both, points = "{frames: 2, keys: [points, visible]}", "{frames: 2, keys: [points]}"
+    for extra in (
+        f"  pose_history: true\n  extractor: landmark_set\n  history: {both}\n",
+        f"  pose_history: true\n  extractor: landmark_pose\n  history: {points}\n",
+        "  pose_history: true\n  extractor: landmark_pose\n",
+        f"  pose_history: 1\n  extractor: landmark_pose\n  history: {both}\n",
+    ):
+        path.write_text("dagger:\n  teacher: planner\n" + extra)
+        with pytest.raises(ValueError, match="pose_history"):
+            load_dagger_config(path)

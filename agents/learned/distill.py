@@ -39,7 +39,7 @@ from agents.learned.distill_config import (
     DaggerConfig,
     load_dagger_config,
 )
-from agents.learned.extractors import error_key_of, raw_keys
+from agents.learned.extractors import POSE_HISTORY_KEYS, error_key_of, raw_keys
 from agents.learned.history import HistoryConfig, HistoryStack, history_space
 
 __all__ = [
@@ -154,6 +154,7 @@ def dagger(
                         "error_keys": list(config.error_keys),
                         "point_error": config.point_error,
                         **({"angle_keys": list(config.angle_keys)} if config.angle_keys else {}),
+                        **({"pose_history": True} if config.pose_history else {}),
                     },
                 }
                 if config.error_keys or config.point_error or landmark_set
@@ -172,6 +173,8 @@ def dagger(
     aux_head = torch.nn.Linear(policy.mlp_extractor.latent_dim_pi, 4)
     optimiser = torch.optim.Adam([*actor, *aux_head.parameters()], lr=config.learning_rate)
     raw = raw_keys(config.error_keys, config.point_error, landmark_set)  # read raw
+    if config.pose_history:  # the past frames' points are solved for poses too
+        raw = (*raw, *(k for k in student_space.spaces if k.split("@", 1)[0] in POSE_HISTORY_KEYS))
     rms = {
         k: RunningMeanStd(shape=tuple(student_space.spaces[k].shape or ()))
         for k in student_space.spaces

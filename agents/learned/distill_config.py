@@ -81,6 +81,9 @@ class DaggerConfig:
         features plus a learned encoding of the landmarks as a set) or ``landmark_pose``
         (:class:`agents.learned.extractors.LandmarkPoseExtractor`: those plus the goal's
         pose solved from the image's bearings).
+    pose_history
+        With ``landmark_pose``: solve the goal's pose in each past frame of the ``history``
+        too (which must hold ``points`` and ``visible``), so the network can filter it.
     balance_actions
         Weight each action component's squared error by the inverse of its label variance
         (the turn labels vary about 7 times less than the speed labels, and an unweighted fit
@@ -120,6 +123,7 @@ class DaggerConfig:
     point_error: bool = True
     extractor: str = "error_scale"
     angle_keys: tuple[str, ...] = ()
+    pose_history: bool = False
     balance_actions: bool = True
     aux_weight: float = 1.0
     relative_floor: float = 0.0
@@ -166,7 +170,7 @@ def load_dagger_config(path: Path | str) -> DaggerConfig:
             if not isinstance(value, int | float) or not low <= value <= high:
                 raise ValueError(f"{where}.{key} must be in [{low}, {high}], got {value!r}")
             values[key] = float(value)
-    for key in ("point_error", "balance_actions"):
+    for key in ("point_error", "balance_actions", "pose_history"):
         if key in section:
             if not isinstance(section[key], bool):
                 raise ValueError(f"{where}.{key} must be true or false, got {section[key]!r}")
@@ -241,6 +245,14 @@ def load_dagger_config(path: Path | str) -> DaggerConfig:
         values["angle_keys"] = tuple(keys)
     if section.get("history") is not None:
         values["history"] = HistoryConfig.from_mapping(section["history"], f"{where}.history")
+    if values.get("pose_history"):
+        kept = values["history"].keys if "history" in values else ()
+        if values.get("extractor") != "landmark_pose" or not {"points", "visible"} <= set(kept):
+            raise ValueError(
+                f"{where}.pose_history needs extractor: landmark_pose and a history whose keys "
+                f"include points and visible, got extractor {values.get('extractor')!r} and "
+                f"history keys {list(kept)}"
+            )
     config = DaggerConfig(**values, source={"file": str(path), "dagger": dict(section)})
     make_analytic(config.teacher, **config.teacher_kwargs)  # the teacher's name and arguments
     return config

@@ -31,6 +31,7 @@ __all__ = [
     "ERROR_KEYS",
     "LANDMARK_KEYS",
     "POINT_KEYS",
+    "POSE_HISTORY_KEYS",
     "ErrorScaleExtractor",
     "LandmarkPoseExtractor",
     "LandmarkSetExtractor",
@@ -44,6 +45,10 @@ ERROR_KEYS = ("c_error", "alpha_m_error")
 
 #: the keys the image error is computed from
 POINT_KEYS = ("points", "goal_points", "visible")
+
+
+#: the keys whose past frames :class:`LandmarkPoseExtractor` solves (``pose_history``)
+POSE_HISTORY_KEYS = ("points", "visible")
 
 
 #: the keys :class:`LandmarkSetExtractor` builds its landmark tokens from
@@ -269,6 +274,11 @@ class LandmarkPoseExtractor(LandmarkSetExtractor):
         As :class:`LandmarkSetExtractor`.
     pose_eps
         The soft signs' scale, metres (and the heading's, radians).
+    pose_history
+        Solve the pose in each past frame too (``points@-k`` and ``visible@-k``, ``k = 1,
+        2, ...``, with the goal image of now), appending each frame's features, so the
+        network can filter a noisy camera's poses. The past frames' keys must not be
+        normalised (:func:`raw_keys` does not list them).
     """
 
     def __init__(
@@ -280,23 +290,38 @@ class LandmarkPoseExtractor(LandmarkSetExtractor):
         token_dim: int = 64,
         angle_keys: tuple[str, ...] | list[str] = (),
         pose_eps: float = 1e-3,
+        pose_history: bool = False,
     ) -> None:
         if not (isinstance(pose_eps, (int, float)) and pose_eps > 0):
             raise ValueError(f"pose_eps must be a positive number, got {pose_eps!r}")
         super().__init__(observation_space, error_keys, eps, point_error, token_dim, angle_keys)
         self.pose_eps = float(pose_eps)
-        self._features_dim += POSE_FEATURES
+        self.pose_history = bool(pose_history)
+        self._frames = [("points", "visible")]
+        lag = 1
+        while self.pose_history and f"points@-{lag}" in observation_space.spaces:
+            self._frames.append((f"points@-{lag}", f"visible@-{lag}"))
+            lag += 1
+        missing = sorted({v for _, v in self._frames} - set(observation_space.spaces))
+        if self.pose_history and (len(self._frames) == 1 or missing):
+            raise ValueError(
+                "pose_history needs the past frames' keys points@-1, visible@-1, ... in the "
+                f"observation (missing: {missing or ['points@-1']})"
+            )
+        self._features_dim += POSE_FEATURES * len(self._frames)
 
     def forward(self, observations: dict[str, torch.Tensor]) -> torch.Tensor:
         """Return the ``(B, features_dim)`` features."""
         b = observations["points"].shape[0]
-        now = observations["points"].float().reshape(b, -1, 2)
         goal = observations["goal_points"].float().reshape(b, -1, 2)
-        seen = (goal.norm(dim=2) > 0.5) & (observations["visible"].float() > 0.5)
         depth = observations["goal_depths"].float().reshape(b, -1)
-        pose = goal_pose_features(now, goal, depth, seen.float(), self.pose_eps)
-        return torch.cat([super().forward(observations), pose], dim=1)
+        poses = []
+        for points, visible in self._frames:
+            now = observations[points].float().reshape(b, -1, 2)
+            seen = (goal.norm(dim=2) > 0.5) & (observations[visible].float() > 0.5)
+            poses.append(goal_pose_features(now, goal, depth, seen.float(), self.pose_eps))
+        return torch.cat([super().forward(observations), *poses], dim=1)
 
     def extra_repr(self) -> str:
         """Return the settings, for ``print(policy)``."""
-        return f"{super().extra_repr()}, pose_eps={self.pose_eps}"
+        return f"{super().extra_repr()}, pose_eps={self.pose_eps}, pose_history={self.pose_history}"
