@@ -107,61 +107,50 @@ def test_the_pose_from_the_envs_images_is_the_true_one(scenario):
     assert solved >= 40
 
 
-def _space(n: int = 5) -> spaces.Dict:
-    return spaces.Dict(
-        {
-            "alpha_m_error": spaces.Box(-4, 4, (1,)),
-            "goal_depths": spaces.Box(0, 1e3, (n,)),
-            "goal_points": spaces.Box(-1, 1, (2 * n,)),
-            "points": spaces.Box(-1, 1, (2 * n,)),
-            "visible": spaces.Box(0, 1, (n,)),
-        }
-    )
-
-
-def test_the_pose_extractor_appends_the_pose_to_the_set_features():
-    torch.manual_seed(0)
-    now, goal, depth, _ = _scene(11, 5, 1.0, 0.5, 0.3)
+def _obs(now, goal, depth, **past: torch.Tensor) -> dict[str, torch.Tensor]:
+    """A features observation of one scene (:func:`_scene`), past frames' keys added."""
+    n = depth.shape[1]
     obs = {
         "alpha_m_error": torch.tensor([[0.3]]),
         "goal_depths": depth.float(),
         "goal_points": goal.float().reshape(1, -1),
         "points": now.float().reshape(1, -1),
-        "visible": torch.ones(1, 5),
+        "visible": torch.ones(1, n),
     }
-    extractor = LandmarkPoseExtractor(_space(), token_dim=8)
+    return obs | {k: v.float().reshape(1, -1) for k, v in past.items()}
+
+
+def _space_of(obs: dict[str, torch.Tensor]) -> spaces.Dict:
+    return spaces.Dict({k: spaces.Box(-1e3, 1e3, tuple(v.shape[1:])) for k, v in obs.items()})
+
+
+def test_the_pose_extractor_appends_the_pose_to_the_set_features():
+    now, goal, depth, _ = _scene(11, 5, 1.0, 0.5, 0.3)
+    obs = _obs(now, goal, depth)
     torch.manual_seed(0)
-    base = LandmarkSetExtractor(_space(), token_dim=8)
+    extractor = LandmarkPoseExtractor(_space_of(obs), token_dim=8)
+    torch.manual_seed(0)
+    base = LandmarkSetExtractor(_space_of(obs), token_dim=8)
     assert extractor.features_dim == base.features_dim + POSE_FEATURES
     out = extractor(obs)
     torch.testing.assert_close(out[:, : base.features_dim], base(obs))
     np.testing.assert_allclose(out[0, -POSE_FEATURES:-11].detach().numpy(), [1.0, 0.5], atol=1e-4)
     with pytest.raises(ValueError, match="pose_eps"):
-        LandmarkPoseExtractor(_space(), pose_eps=0.0)
+        LandmarkPoseExtractor(_space_of(obs), pose_eps=0.0)
 
 
 def test_pose_history_solves_each_past_frame():
     now, goal, depth, _ = _scene(11, 5, 1.0, 0.5, 0.3)
     past, _, _, _ = _scene(11, 5, 1.2, 0.4, 0.1)  # the same landmarks, from an earlier pose
-    space = _space()
-    space.spaces["points@-1"] = space.spaces["points"]
-    space.spaces["visible@-1"] = space.spaces["visible"]
-    obs = {
-        "alpha_m_error": torch.tensor([[0.3]]),
-        "goal_depths": depth.float(),
-        "goal_points": goal.float().reshape(1, -1),
-        "points": now.float().reshape(1, -1),
-        "visible": torch.ones(1, 5),
-        "points@-1": past.float().reshape(1, -1),
-        "visible@-1": torch.ones(1, 5),
-    }
+    obs = _obs(now, goal, depth, **{"points@-1": past, "visible@-1": torch.ones(1, 5)})
+    space = _space_of(obs)
     extractor = LandmarkPoseExtractor(space, token_dim=8, pose_history=True)
     assert extractor.features_dim == LandmarkPoseExtractor(space, token_dim=8).features_dim + 13
     out = extractor(obs)[0].detach().numpy()
     np.testing.assert_allclose(out[-26:-24], [1.0, 0.5], atol=1e-4)  # now
     np.testing.assert_allclose(out[-13:-11], [1.2, 0.4], atol=1e-4)  # a step ago
     with pytest.raises(ValueError, match="points@-1"):
-        LandmarkPoseExtractor(_space(), pose_history=True)
+        LandmarkPoseExtractor(_space_of(_obs(now, goal, depth)), pose_history=True)
 
 
 def test_pose_history_needs_the_pose_extractor_and_the_points_history(tmp_path):
