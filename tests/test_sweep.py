@@ -49,13 +49,16 @@ def swept(tiny_config: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
     return out
 
 
-def test_each_seed_gets_a_train_model_directory_and_a_summary(swept: Path) -> None:
+def test_each_seed_gets_a_train_model_directory_and_a_summary(
+    swept: Path, tiny_config: Path
+) -> None:
     for seed in (0, 1):
         directory = swept / f"seed-{seed}"
         for name in ("model.zip", "metadata.json", "normalization.npz", "learning_curve.png"):
             assert (directory / name).is_file(), (seed, name)
         metadata = json.loads((directory / "metadata.json").read_text())
         assert metadata["seed"] == seed and "radial-ibvs sweep" in metadata["command"]
+        assert metadata["config"]["file"] == str(tiny_config)  # not the worker's scratch copy
         assert len(metadata["learning_curve"]) == 2
     summary = json.loads((swept / "summary.json").read_text())
     assert summary["seeds"] == [0, 1]
@@ -170,6 +173,7 @@ def test_a_dagger_config_sweeps_as_distill_does(tmp_path: Path) -> None:
     for seed in (0, 1):
         metadata = json.loads((out / f"seed-{seed}" / "metadata.json").read_text())
         assert metadata["trained_by"] == "dagger" and metadata["seed"] == seed
+        assert metadata["config"]["file"] == str(config)  # not the worker's scratch copy
         assert (out / f"seed-{seed}" / "rounds" / "round_1").is_dir()
         kept = metadata["learning_curve"][metadata["best_round"]]["success_rate"]
         assert summary["final_success"][str(seed)] == kept

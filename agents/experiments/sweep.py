@@ -23,7 +23,7 @@ import shutil
 import tempfile
 import zipfile
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -41,7 +41,7 @@ class SeedRun:
     """One training seed: what a worker needs (the config travels as text)."""
 
     config_text: str
-    config_name: str
+    config_file: str  # the config's path as given: what the model's metadata names
     env_id: str | None
     algo: str
     seed: int
@@ -69,15 +69,18 @@ def _train_seed(run: SeedRun) -> bytes:
 
     torch.set_num_threads(1)
     with tempfile.TemporaryDirectory() as scratch:
-        config_path = Path(scratch) / run.config_name
+        config_path = Path(scratch) / Path(run.config_file).name
         config_path.write_text(run.config_text)
         model_dir = Path(scratch) / "model"
+        source = {"file": run.config_file}  # not the scratch copy's path
         if is_dagger_config(config_path):
             config = load_dagger_config(config_path)
+            config = replace(config, source={**config.source, **source})
             dagger(config, model_dir, seed=run.seed, progress=run.progress, command=run.command)
         else:
+            train_config = load_train_config(config_path, run.env_id)
             train(
-                load_train_config(config_path, run.env_id),
+                replace(train_config, source={**train_config.source, **source}),
                 model_dir,
                 algo=run.algo,
                 seed=run.seed,
@@ -184,7 +187,7 @@ def run_sweep(
     todo = [s for s in seeds if s not in done]
     here = backend == "local" and workers == 1  # one seed at a time, in this process
     runs = [
-        SeedRun(config_path.read_text(), config_path.name, env_id, algo, s, total_timesteps,
+        SeedRun(config_path.read_text(), str(config_path), env_id, algo, s, total_timesteps,
                 f"{command} (seed {s})".strip(), progress=here and progress)
         for s in todo
     ]  # fmt: skip
