@@ -423,6 +423,46 @@ def test_max_landmarks_pads_every_scene_to_one_observation_space() -> None:
     assert spaces_seen[0] == spaces_seen[1] == spaces_seen[2]
 
 
+@pytest.mark.parametrize("scenario", ["paper-lab", "random"])
+def test_random_slot_order_moves_each_landmark_to_its_drawn_slot(scenario: str) -> None:
+    kwargs = {"scenario": scenario, "obs_mode": "features", "goal_depths": True,
+              "privileged": True, "max_landmarks": 16, "physics": "kinematic"}  # fmt: skip
+    fixed = gym.make("RadialIBVS/Parking-v0", **kwargs)
+    drawn = gym.make("RadialIBVS/Parking-v0", slot_order="random", **kwargs)
+    orders = []
+    for seed in (3, 4):
+        a, info_a = fixed.reset(seed=seed)
+        b, info_b = drawn.reset(seed=seed)
+        np.testing.assert_array_equal(info_a["robot_pose"], info_b["robot_pose"])  # same episode
+        slots = drawn.unwrapped.slots
+        order = drawn.unwrapped._setup.slot_order
+        orders.append(order.tolist())
+        assert sorted(set(order.tolist())) == sorted(order.tolist())  # distinct slots
+        for _ in range(3):  # the same slots all episode
+            assert drawn.observation_space.contains(b)
+            np.testing.assert_array_equal(np.flatnonzero(b["landmark_mask"]), np.sort(order))
+            for key in ("points", "goal_points", "visible", "depths", "goal_depths"):
+                width = len(a[key]) // 16
+                moved = b[key].reshape(16, width)
+                np.testing.assert_array_equal(moved[order], a[key].reshape(16, width)[: slots.n])
+                assert (np.delete(moved, order, axis=0) == 0).all()
+            np.testing.assert_array_equal(b["c_error"][slots.pair_index(order)],
+                                          a["c_error"][slots.pair_slots])  # fmt: skip
+            assert np.count_nonzero(b["c_error"]) == np.count_nonzero(a["c_error"])
+            np.testing.assert_array_equal(b["alpha_m_error"], a["alpha_m_error"])
+            a, *_ = fixed.step(np.array([0.3, 0.2]))
+            b, *_ = drawn.step(np.array([0.3, 0.2]))
+    assert orders[0] != orders[1]  # drawn per episode
+    assert orders[0] != list(range(slots.n))
+
+
+def test_slot_order_is_checked() -> None:
+    with pytest.raises(ValueError, match="unknown slot_order 'shuffled'"):
+        gym.make("RadialIBVS/Parking-v0", max_landmarks=16, slot_order="shuffled")
+    with pytest.raises(ValueError, match="slot_order='random' needs max_landmarks"):
+        gym.make("RadialIBVS/Parking-v0", slot_order="random")
+
+
 def test_max_landmarks_below_the_scene_is_a_clear_error() -> None:
     with pytest.raises(ValueError, match="max_landmarks"):
         gym.make("RadialIBVS/Parking-v0", scenario="paper-lab", max_landmarks=8)

@@ -91,10 +91,17 @@ def test_max_landmarks_slots_and_spaces():
     np.testing.assert_array_equal(obs["desired_goal"][16:], 0.0)  # 8 landmarks in 16 slots
     with pytest.raises(ValueError, match="max_landmarks"):
         gym.make("RadialIBVS/ParkingGoal-v1", max_landmarks=4, **KW)
+    drawn = gym.make("RadialIBVS/ParkingGoal-v1", max_landmarks=16, slot_order="random", **KW)
+    moved, _ = drawn.reset(seed=3)
+    order = drawn.unwrapped._setup.slot_order
+    goal = moved["desired_goal"].reshape(16, 2)
+    np.testing.assert_array_equal(goal[order], obs["desired_goal"].reshape(16, 2)[:8])
+    assert (np.delete(goal, order, axis=0) == 0).all()
 
 
-def test_native_vector_env_equals_sync():
-    kw = {**HARSH, **KW}
+@pytest.mark.parametrize("slot_order", ["fixed", "random"])
+def test_native_vector_env_equals_sync(slot_order: str):
+    kw = {**HARSH, **KW, "slot_order": slot_order}
     native, sync = (
         gym.make_vec("RadialIBVS/ParkingGoal-v1", 3, vectorization_mode=mode, **kw)
         for mode in ("vector_entry_point", "sync")

@@ -317,8 +317,10 @@ def test_make_vec_env_applies_one_set_of_reset_options_and_refuses_per_env_ones(
         venv.reset()
 
 
-def test_native_equals_sync_with_landmark_slots() -> None:
-    kwargs = {"scenario": "paper-lab", "physics": "kinematic", "max_landmarks": 16}
+@pytest.mark.parametrize("slot_order", ["fixed", "random"])
+def test_native_equals_sync_with_landmark_slots(slot_order: str) -> None:
+    kwargs = {"scenario": "paper-lab", "physics": "kinematic", "max_landmarks": 16,
+              "slot_order": slot_order}  # fmt: skip
     assert _run_both("RadialIBVS/Parking-v0", 3, 120, "same_step", 0.0, obs_mode="features",
                      max_episode_steps=50, **kwargs)  # fmt: skip
 

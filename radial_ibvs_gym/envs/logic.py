@@ -347,6 +347,7 @@ def observation(
     goal_pose: Array | None = None,
     landmarks: NDArray[np.complex128] | None = None,
     slots: Slots | None = None,
+    slot_order: NDArray[np.intp] | None = None,
 ) -> dict[str, NDArray[Any]]:
     """Build the ``Parking-v0`` observation dict, in the spaces' dtypes (``(...)`` leading dims).
 
@@ -369,6 +370,9 @@ def observation(
         Pad the landmark axis to a fixed number of slots (:class:`Slots`, the env's
         ``max_landmarks``), with zeros, and add ``landmark_mask`` (1 for the scene's
         landmarks): one observation space for any scene with at most that many landmarks.
+    slot_order
+        With ``slots``: ``(..., N)`` the slot of each landmark (``None``: landmark ``n`` in
+        slot ``n``; :meth:`Slots.pad`).
     """
     obs: dict[str, NDArray[Any]] = {
         "points": np.asarray(points, dtype=np.float32),
@@ -386,7 +390,7 @@ def observation(
         obs["goal_pose"] = np.asarray(goal_pose, dtype=np.float64).copy()
         position = pose[..., 0:1] + 1j * pose[..., 1:2]
         obs["depths"] = np.abs(landmarks - position).astype(np.float32)
-    return obs if slots is None else slots.pad(obs)
+    return obs if slots is None else slots.pad(obs, slot_order)
 
 
 class Slots:
@@ -423,25 +427,71 @@ class Slots:
         self.mask = np.zeros(m, dtype=np.float32)
         self.mask[:n] = 1.0
 
-    def pad(self, obs: dict[str, NDArray[Any]]) -> dict[str, NDArray[Any]]:
-        """Return ``obs`` with its landmark axes padded to ``M`` and ``landmark_mask`` added."""
+    def pair_index(self, order: NDArray[np.intp]) -> NDArray[np.intp]:
+        """Return where each landmark pair ``(i, j)``, ``i < j``, lies among the slots' pairs.
+
+        Parameters
+        ----------
+        order
+            ``(..., N)`` the slot of each landmark (distinct, in ``0..M-1``).
+
+        Returns
+        -------
+        ``(..., N (N - 1) / 2)`` indices into the ``M (M - 1) / 2`` pairs, in row-major order
+        of the slots (a pair is unordered: ``c_ij`` is symmetric).
+        """
+        i, j = np.triu_indices(self.n, 1)
+        a = np.minimum(order[..., i], order[..., j])
+        b = np.maximum(order[..., i], order[..., j])
+        return (a * (2 * self.m - a - 1)) // 2 + (b - a - 1)
+
+    def draw_order(self, rng: np.random.Generator) -> NDArray[np.intp]:
+        """Draw the slots of an episode's landmarks: ``(N,)`` distinct slots in ``0..M-1``."""
+        return rng.permutation(self.m)[: self.n].astype(np.intp)
+
+    def pad(
+        self, obs: dict[str, NDArray[Any]], order: NDArray[np.intp] | None = None
+    ) -> dict[str, NDArray[Any]]:
+        """Return ``obs`` with its landmark axes padded to ``M`` and ``landmark_mask`` added.
+
+        Parameters
+        ----------
+        obs
+            The observation of ``N`` landmarks, leading dimensions ``(...)``.
+        order
+            ``None``: landmark ``n`` in slot ``n``. Else ``(N,)`` or ``(..., N)`` the slot of
+            each landmark (:meth:`draw_order`; one row per leading index).
+        """
+        lead = obs["visible"].shape[:-1]
+        if order is not None:
+            order = np.broadcast_to(np.asarray(order, dtype=np.intp), (*lead, self.n))
         out: dict[str, NDArray[Any]] = {}
         for key, value in obs.items():
             width = self.PER_LANDMARK.get(key)
             if width is not None:
                 padded = np.zeros((*value.shape[:-1], width * self.m), dtype=value.dtype)
-                padded[..., : width * self.n] = value
+                if order is None:
+                    padded[..., : width * self.n] = value
+                else:
+                    columns = order[..., :, None] * width + np.arange(width)
+                    np.put_along_axis(padded, columns.reshape(*lead, -1), value, axis=-1)
                 out[key] = padded
             elif key == "c_error":
                 pairs = self.m * (self.m - 1) // 2
                 padded = np.zeros((*value.shape[:-1], pairs), dtype=value.dtype)
-                padded[..., self.pair_slots] = value
+                if order is None:
+                    padded[..., self.pair_slots] = value
+                else:
+                    np.put_along_axis(padded, self.pair_index(order), value, axis=-1)
                 out[key] = padded
             else:
                 out[key] = value
-        out["landmark_mask"] = np.broadcast_to(
-            self.mask, (*obs["visible"].shape[:-1], self.m)
-        ).copy()
+        if order is None:
+            out["landmark_mask"] = np.broadcast_to(self.mask, (*lead, self.m)).copy()
+        else:
+            mask = np.zeros((*lead, self.m), dtype=np.float32)
+            np.put_along_axis(mask, order, 1.0, axis=-1)
+            out["landmark_mask"] = mask
         return out
 
 

@@ -74,6 +74,7 @@ class EpisodeSetup:
     cameras: dict[str, Any] = field(default_factory=dict)
     imperfections: Imperfections | None = None
     map: dict[str, np.ndarray] | None = None
+    slot_order: np.ndarray | None = None
     missed: MissedState | None = None
 
 
@@ -151,6 +152,11 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     ``M (M - 1) / 2`` pairs, each pair at its place among the slots' pairs) and
     ``landmark_mask`` ``Box(0, 1, (M,))`` marks the scene's landmarks: one observation space
     for every scene with at most ``M`` landmarks, so one learned model runs in all of them.
+    Landmark ``n`` fills slot ``n``; with ``slot_order="random"`` each episode puts its ``N``
+    landmarks in ``N`` of the ``M`` slots drawn at random (the last draw of ``reset``, from
+    the env's generator), so that a model trained in scenes of ``N`` landmarks has learned
+    every slot and every pair, not only the first ``N`` (the map's rows stay in the scene's
+    order).
 
     ## Detected points
     With ``measurement="detected"`` the points come from images, as in the paper's lab
@@ -209,6 +215,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | ``min_visible`` | ``3`` | fewer visible landmarks terminate the episode |
     | ``terminate_on_collision`` | ``True`` | |
     | ``max_landmarks`` | ``None`` | landmark slots: pad to this many, add ``landmark_mask`` |
+    | ``slot_order`` | ``"fixed"`` | ``"random"``: the landmarks' slots drawn per episode |
     | ``missed_detections`` | ``None`` | ``{"rate": p, "steps": [lo, hi]}``: missed landmarks |
     | ``start_reach`` | ``1.0`` | in (0, 1]: starts near the goal, for a curriculum (below) |
     | ``**scenario_overrides`` | | scenario keys, e.g. ``depth_scale=1.3`` |
@@ -250,6 +257,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         min_visible: int = 3,
         terminate_on_collision: bool = True,
         max_landmarks: int | None = None,
+        slot_order: Literal["fixed", "random"] = "fixed",
         missed_detections: Mapping[str, Any] | MissedDetections | None = None,
         start_reach: float = 1.0,
         w_position: float = 1.0,
@@ -352,6 +360,11 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._pairs = pair_indices(n)
         #: fixed landmark slots (``max_landmarks``), or None: the observation has N landmarks
         self.slots = None if max_landmarks is None else logic.Slots(n, max_landmarks)
+        if slot_order not in ("fixed", "random"):
+            raise ValueError(f"unknown slot_order {slot_order!r}; valid: ['fixed', 'random']")
+        if slot_order == "random" and self.slots is None:
+            raise ValueError("slot_order='random' needs max_landmarks (the slots to draw from)")
+        self.slot_order = slot_order
         k = n if max_landmarks is None else int(max_landmarks)  # landmark entries observed
 
         self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
@@ -544,6 +557,9 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             setup.map = self.map_observation(setup.episode)
         if self.missed_detections is not None:
             setup.missed = self.missed_detections.start(rng, len(setup.episode.landmarks))
+        if self.slot_order == "random":  # the last draw: the episode is the same as fixed's
+            assert self.slots is not None
+            setup.slot_order = self.slots.draw_order(rng)
         return setup
 
     def _episode_cameras(
@@ -773,6 +789,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             goal_pose=self._setup.episode.goal if self.privileged else None,
             landmarks=self._setup.landmarks_c if self.privileged else None,
             slots=self.slots,
+            slot_order=self._setup.slot_order,
         )
 
     def _info(

@@ -254,5 +254,5 @@ class ParkingGoalEnvV1(ParkingGoalEnv):
             "goal_points": self._setup.goal_points.reshape(-1),
         }
         if self.slots is not None:
-            obs = self.slots.pad(obs)
+            obs = self.slots.pad(obs, self._setup.slot_order)
         return logic.goal_observation(obs["points"], obs["visible"], obs["goal_points"])

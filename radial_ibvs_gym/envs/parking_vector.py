@@ -154,6 +154,7 @@ class ParkingVectorEnv(VectorEnv):
         self._prev = (np.zeros(n), np.zeros(n))
         self._elapsed = np.zeros(n, dtype=np.int64)
         self._autoreset = np.zeros(n, dtype=bool)
+        self._slot_orders = np.zeros((n, nl), dtype=np.intp)  # slot_order="random": per env
         camera = self.scenario.config.camera
         self._drawn = camera.imperfection_ranges is not None  # imperfections drawn per episode
         self._fast = not (camera.imperfections.any or self._drawn)
@@ -242,6 +243,8 @@ class ParkingVectorEnv(VectorEnv):
             self._goal_visible[i] = setup.goal_visible
             self._goal_depths[i] = setup.goal_depths
             self._setups[i] = setup
+            if setup.slot_order is not None:
+                self._slot_orders[i] = setup.slot_order
             if setup.imperfections is not None:
                 drawn = logic.imperfections_info(setup.imperfections)
                 self._imperfections[i] = [drawn[k] for k in IMPERFECTION_KEYS]
@@ -445,6 +448,7 @@ class ParkingVectorEnv(VectorEnv):
             goal_pose=self._goals[idx] if t.privileged else None,
             landmarks=self._landmarks_c[idx] if t.privileged else None,
             slots=t.slots,
+            slot_order=self._slot_orders[idx] if t.slot_order == "random" else None,
         )
         if t.privileged_map:
             setups = [self._setups[i] for i in np.arange(self.num_envs)[idx].tolist()]
@@ -597,8 +601,9 @@ class ParkingGoalVectorEnvV1(ParkingVectorEnv):
             "visible": self._visible[idx].astype(np.float32),
             "goal_points": self._goal_points[idx].reshape(n, -1),
         }
-        if self.template.slots is not None:
-            obs = self.template.slots.pad(obs)
+        t = self.template
+        if t.slots is not None:
+            obs = t.slots.pad(obs, self._slot_orders[idx] if t.slot_order == "random" else None)
         return logic.goal_observation(obs["points"], obs["visible"], obs["goal_points"])
 
     def _reward_terms(
