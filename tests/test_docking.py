@@ -125,3 +125,30 @@ def test_the_turn_in_place_is_proportional_near_zero() -> None:
     assert math.isclose(two, -6.0 * math.radians(2.0))
     assert math.isclose(turn_in_place(math.radians(6.0), gain=6.0, **TURN), 3.0 * two)
     assert turn_in_place(0.0, gain=6.0, **TURN) == 0.0
+
+
+@settings(max_examples=200, deadline=None)
+@given(angle.filter(lambda a: a != 0.0), st.floats(0.5, 9.5), st.floats(0.05, 0.69))
+def test_the_turn_floor_keeps_the_last_degrees_turn_and_parks(phi, gain, floor) -> None:
+    """With a floor, the turn is at least ``floor`` (or the proportional turn, if larger)
+    against the error, odd in it; each 0.1 s step shrinks the error or overshoots by at most
+    ``floor * 0.1`` radians, and the heading gets under 2 deg (floor * 0.1 < 4 deg: a step
+    lands within the tolerance rather than across it)."""
+    omega = turn_in_place(phi, gain=gain, floor=floor, **TURN)
+    plain = turn_in_place(phi, gain=gain, **TURN)
+    assert omega * phi < 0.0
+    assert math.isclose(abs(omega), max(floor, abs(plain)))
+    assert turn_in_place(-phi, gain=gain, floor=floor, **TURN) == -omega
+    heading, steps = phi, 0
+    while abs(heading) >= math.radians(2.0):
+        after = heading + 0.1 * turn_in_place(heading, gain=gain, floor=floor, **TURN)
+        assert abs(after) < abs(heading) or abs(after) <= 0.1 * floor + 1e-12
+        heading, steps = after, steps + 1
+        assert steps < 200
+    assert turn_in_place(0.0, gain=gain, floor=floor, **TURN) == 0.0
+
+
+def test_the_turn_floor_is_capped_by_the_turn_limit() -> None:
+    """A floor above the robot's angular speed limit turns at the limit."""
+    omega = turn_in_place(math.radians(1.0), gain=6.0, floor=100.0, **TURN)
+    assert omega == -ROBOT.max_angular_speed

@@ -364,6 +364,11 @@ def test_within_turn_radius_it_turns_in_place_and_parks() -> None:
     v, omega = planner._turn(plan, np.array([0.01, 0.0, np.radians(-6.0)]))
     assert v == 0.0
     assert np.isclose(omega, 6.0 * np.radians(6.0) / planner.robot.max_angular_speed)
+    # with turn_floor, the last degrees' label stays at the floor (0.5 rad/s), not 6/s * 2 deg
+    floored = MapPlanner(**LINE_TEACHER, turn_radius=0.018, turn_gain=6.0, turn_floor=0.5)
+    v, omega = floored._turn(plan, np.array([0.01, 0.0, np.radians(2.0)]))
+    assert v == 0.0
+    assert np.isclose(omega, -0.5 / planner.robot.max_angular_speed)
 
 
 @pytest.mark.parametrize(
@@ -371,6 +376,7 @@ def test_within_turn_radius_it_turns_in_place_and_parks() -> None:
     [
         ({"turn_radius": -0.01}, "turn_radius must be finite and positive, got -0.01"),
         ({"turn_gain": 0.0}, "turn_gain must be finite and positive, got 0.0"),
+        ({"turn_floor": -0.5}, "turn_floor must be finite and positive, got -0.5"),
         ({"turn_radius": 0.01, "final_radius": 0.3}, "turn_radius .* and final_radius"),
         ({"line_cone": 1.6}, "line_cone must be below pi/2 radians, got 1.6"),
         ({"line_radius": -0.1}, "line_radius must be finite and positive, got -0.1"),

@@ -123,13 +123,16 @@ def line_docking(
     return v, float(np.clip(omega, -max_turn, max_turn))
 
 
-def turn_in_place(phi: float, *, gain: float, max_turn: float, max_turn_accel: float) -> float:
+def turn_in_place(
+    phi: float, *, gain: float, max_turn: float, max_turn_accel: float, floor: float = 0.0
+) -> float:
     """Return the turn rate that brings the heading error ``phi`` to zero in place, rad/s.
 
-    ``omega = -sign(phi) * min(max_turn, gain * |phi|, sqrt(2 * max_turn_accel * |phi|))``;
-    the speed is zero, so the position stays where it is (the pose is the wheel axle's
-    midpoint). Within the success radius this is the shortest way to park, and its command
-    depends on the heading error alone, which an image resolves well.
+    ``omega = -sign(phi) * max(min(floor, max_turn), min(max_turn, gain * |phi|,
+    sqrt(2 * max_turn_accel * |phi|)))`` for ``phi != 0``, and 0 at ``phi = 0``; the speed is
+    zero, so the position stays where it is (the pose is the wheel axle's midpoint). Within
+    the success radius this is the shortest way to park, and its command depends on the
+    heading error alone, which an image resolves well.
 
     Parameters
     ----------
@@ -139,5 +142,15 @@ def turn_in_place(phi: float, *, gain: float, max_turn: float, max_turn_accel: f
         Proportional gain, 1/s (keep it below ``1 / control_dt`` for a monotone approach).
     max_turn, max_turn_accel
         The robot's angular speed and acceleration limits, rad/s and rad/s^2.
+    floor
+        The least turn rate while ``phi != 0``, rad/s (default 0: none). The proportional
+        turn fades with the error, and a learned policy that fits it to within a few hundredths
+        of the turn range stops a few degrees short; with a floor, the last degrees' turn stays
+        that large. A step of ``control_dt`` seconds then overshoots by at most
+        ``floor * control_dt`` radians: keep that under twice the heading tolerance, so that
+        the step lands within the tolerance rather than across it.
     """
-    return -math.copysign(ramp(abs(phi), max_turn, max_turn_accel, gain), phi)
+    if phi == 0.0:
+        return 0.0
+    size = max(min(floor, max_turn), ramp(abs(phi), max_turn, max_turn_accel, gain))
+    return -math.copysign(size, phi)

@@ -302,6 +302,10 @@ class MapPlanner:
         (:mod:`agents.learned.distill`) uses it: its label there is a function of the heading
         error alone, and a larger gain than ``gain`` makes the last degrees' turn labels
         larger than an image-only student's fitting error.
+    turn_floor
+        The least turn rate of ``turn_radius``'s turn in place while the heading is off,
+        rad/s (default 0: none; :func:`~agents.analytic.docking.turn_in_place`'s ``floor``).
+        A teacher's proportional turn fades below what its student fits in the last degrees.
 
     Raises
     ------
@@ -333,6 +337,7 @@ class MapPlanner:
         line_speed: float = 0.15,
         turn_radius: float = 0.0,
         turn_gain: float = 6.0,
+        turn_floor: float = 0.0,
     ) -> None:
         _import_ompl()
         if isinstance(min_visible, bool) or not isinstance(min_visible, int) or min_visible < 0:
@@ -358,6 +363,7 @@ class MapPlanner:
             "line_speed": line_speed,
             "turn_radius": turn_radius,
             "turn_gain": turn_gain,
+            "turn_floor": turn_floor,
         }
         for name, value in values.items():
             zero_ok = name in (
@@ -371,6 +377,7 @@ class MapPlanner:
                 "line_cone",
                 "line_lateral_gain",
                 "turn_radius",
+                "turn_floor",
             )
             if not (math.isfinite(value) and value >= 0 and (value > 0 or zero_ok)):
                 raise ValueError(f"{name} must be finite and positive, got {value!r}")
@@ -391,6 +398,7 @@ class MapPlanner:
         self.line_radius, self.line_lateral_gain = float(line_radius), float(line_lateral_gain)
         self.line_cone, self.line_speed = float(line_cone), float(line_speed)
         self.turn_radius, self.turn_gain = float(turn_radius), float(turn_gain)
+        self.turn_floor = float(turn_floor)
         if self.line_cone >= math.pi / 2:
             raise ValueError(f"line_cone must be below pi/2 radians, got {line_cone!r}")
         if self.turn_radius > 0 and self.final_radius > 0:
@@ -537,6 +545,7 @@ class MapPlanner:
             gain=self.turn_gain,
             max_turn=robot.max_angular_speed,
             max_turn_accel=robot.max_angular_accel,
+            floor=self.turn_floor,
         )
         return np.array([0.0, omega / robot.max_angular_speed])
 
