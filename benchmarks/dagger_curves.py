@@ -67,7 +67,7 @@ def main() -> None:
     ax.set_ylabel("success, 100 validation rooms")
     ax.set_ylim(0.0, 1.0)
     ax.grid(alpha=0.3)
-    ax.legend(fontsize=8, loc="upper left")
+    ax.legend(fontsize=8, loc="lower right")
     ax.set_title("DAgger students: success after each round (band: lowest to highest seed)")
     fig.tight_layout()
     save_figure(fig, args.out)
