@@ -377,6 +377,7 @@ def test_within_turn_radius_it_turns_in_place_and_parks() -> None:
         ({"turn_radius": -0.01}, "turn_radius must be finite and positive, got -0.01"),
         ({"turn_gain": 0.0}, "turn_gain must be finite and positive, got 0.0"),
         ({"turn_floor": -0.5}, "turn_floor must be finite and positive, got -0.5"),
+        ({"turn_floor": 0.5}, "turn_floor .* acts on turn_radius's turn in place"),
         ({"turn_radius": 0.01, "final_radius": 0.3}, "turn_radius .* and final_radius"),
         ({"line_cone": 1.6}, "line_cone must be below pi/2 radians, got 1.6"),
         ({"line_radius": -0.1}, "line_radius must be finite and positive, got -0.1"),

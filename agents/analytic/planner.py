@@ -411,6 +411,11 @@ class MapPlanner:
                 f"line_radius ({line_radius!r}) and final_radius ({final_radius!r}) both "
                 "take over near the goal: set one of them to 0"
             )
+        if self.turn_floor > 0 and self.turn_radius <= 0:
+            raise ValueError(
+                f"turn_floor ({turn_floor!r}) acts on turn_radius's turn in place: set "
+                "turn_radius > 0"
+            )
         if align_unblock and self.align_radius <= 0:
             raise ValueError("align_unblock acts on align_radius's blend: set align_radius > 0")
         if self.approach >= 1.0:
