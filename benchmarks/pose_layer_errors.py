@@ -9,8 +9,9 @@ bearings of one image against the goal image. For held-out rooms (the ``imperfec
 seeds and cameras) this script prints
 
 - through the calibration error (principal point (2, -1) px, focal ratio +1 %): how far the
-  solved position is from the goal with the robot on the goal position, turned 0-180 deg
-  from the goal heading (the error cancels only at the goal heading);
+  solved position is from the goal, and the solved heading from the true one, with the robot
+  on the goal position turned 0-180 deg from the goal heading (the error cancels only at the
+  goal heading);
 - through 1 px of noise: the solved position's error along the planner's own paths, by
   distance to the goal (one frame, no filtering).
 
@@ -50,7 +51,8 @@ def _solve(points, visible, goal_points, goal_visible, depths) -> tuple[np.ndarr
 
 
 def turned_at_goal(episodes: int, seed: int, angles: tuple[float, ...]) -> dict[float, list]:
-    """Solved position's distance from the goal (m), the robot on the goal turned by ``angles``."""
+    """``[(position off (m), heading off (rad)), ...]`` per angle: the solved pose's errors, the
+    robot on the goal turned by ``angles`` (degrees)."""
     env = gym.make("RadialIBVS/Parking-v0", **ENV, camera={**CAMERA, "imperfections": CALIBRATION})
     out: dict[float, list] = {a: [] for a in angles}
     for episode in range(episodes):
@@ -64,7 +66,11 @@ def turned_at_goal(episodes: int, seed: int, angles: tuple[float, ...]) -> dict[
             solved, valid = _solve(
                 points, visible, setup.goal_points, setup.goal_visible, obs["goal_depths"]
             )
-            out[angle].append(np.hypot(solved[0], solved[1]) if valid else np.inf)
+            # the goal's heading relative to the robot's is -angle
+            heading = np.arctan2(solved[3], solved[2]) + np.radians(angle)
+            heading = (heading + np.pi) % (2 * np.pi) - np.pi
+            off = (np.hypot(solved[0], solved[1]), abs(heading)) if valid else (np.inf, np.inf)
+            out[angle].append(off)
     env.close()
     return out
 
@@ -105,12 +111,19 @@ def main() -> None:
     args = parser.parse_args()
     torch.set_num_threads(1)
     print(f"pp (2, -1) px, fy +1 %; the robot on the goal, {args.episodes} held-out rooms")
-    print("| turned from the goal heading | solved position off: median | 90th percentile |")
-    print("|---|---|---|")
-    for angle, off in turned_at_goal(args.episodes, args.seed, (0, 2, 10, 30, 90, 180)).items():
+    print(
+        "| turned from the goal heading | solved position off: median | 90th percentile "
+        "| solved heading off: median | 90th percentile |"
+    )
+    print("|---|---|---|---|---|")
+    angles = (0, 2, 10, 30, 45, 90, 180)
+    for angle, rows in turned_at_goal(args.episodes, args.seed, angles).items():
+        off, heading = np.asarray(rows).T
         print(
             f"| {angle:g} deg | {np.median(off) * 100:.1f} cm "
-            f"| {np.percentile(off, 90) * 100:.1f} cm |"
+            f"| {np.percentile(off, 90) * 100:.1f} cm "
+            f"| {np.degrees(np.median(heading)):.2f} deg "
+            f"| {np.degrees(np.percentile(heading, 90)):.2f} deg |"
         )
     rows = along_planner_paths(max(1, args.episodes // 7), args.seed)
     print(f"\n1 px of noise, along the planner's paths ({max(1, args.episodes // 7)} rooms)")

@@ -107,6 +107,36 @@ def test_the_pose_from_the_envs_images_is_the_true_one(scenario):
     assert solved >= 40
 
 
+def test_the_teacher_through_the_camera_is_handed_the_true_pose_by_an_ideal_one():
+    # benchmarks/teacher_through_camera.py hands its teacher the goal's pose composed with the
+    # solved relative pose: through an ideal camera, the robot's true pose
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).parents[1] / "benchmarks" / "teacher_through_camera.py"
+    spec = importlib.util.spec_from_file_location("teacher_through_camera", path)
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    env = gym.make(
+        "RadialIBVS/Parking-v0", scenario="random", physics="kinematic", obs_mode="features",
+        goal_depths=True, max_landmarks=16, slot_order="random", privileged=True,
+    )  # fmt: skip
+    checked = 0
+    for episode in range(4):
+        obs, _ = env.reset(seed=episode)
+        for _ in range(8):
+            solved = script.solved_robot_pose(obs)
+            if solved is not None:
+                checked += 1
+                truth = np.asarray(obs["robot_pose"], dtype=np.float64)
+                np.testing.assert_allclose(solved[:2], truth[:2], atol=1e-4)
+                turn = (solved[2] - truth[2] + np.pi) % (2 * np.pi) - np.pi
+                assert abs(turn) < 1e-4
+            obs, *_ = env.step(env.action_space.sample())
+    env.close()
+    assert checked >= 24
+
+
 def _obs(now, goal, depth, **past: torch.Tensor) -> dict[str, torch.Tensor]:
     """A features observation of one scene (:func:`_scene`), past frames' keys added."""
     n = depth.shape[1]
