@@ -73,7 +73,10 @@ class ImageTeacher:
     def __init__(self, teacher: Any) -> None:
         self.teacher = teacher
 
-    def predict(self, obs: dict[str, Any], state: Any, episode_start: Any, deterministic=True):
+    def predict(
+        self, obs: dict[str, Any], state: Any, episode_start: Any, deterministic: bool = True
+    ) -> tuple[np.ndarray, Any]:
+        """The teacher's action for ``obs`` with the robot's pose replaced by the solved one."""
         seen = dict(obs)
         solved = solved_robot_pose(obs)
         if solved is not None:
