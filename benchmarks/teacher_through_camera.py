@@ -96,6 +96,17 @@ def variants(labels: list[str]) -> dict[str, dict[str, Any]]:
     return {label: table[label] for label in labels}
 
 
+def _mapping(text: str) -> dict[str, Any]:
+    """``--teacher-kwargs``: a JSON object."""
+    try:
+        value = json.loads(text)
+    except json.JSONDecodeError as error:
+        raise argparse.ArgumentTypeError(f"not JSON ({error}): {text!r}") from None
+    if not isinstance(value, dict):
+        raise argparse.ArgumentTypeError(f"expected a JSON object, got {text!r}")
+    return value
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("config", type=Path)
@@ -104,7 +115,7 @@ def main() -> None:
         "--variants", nargs="+", default=["ideal", "noise 1 px", "pp (2, -1) px, fy +1 %",
                                           "all together"],
     )  # fmt: skip
-    parser.add_argument("--teacher-kwargs", type=json.loads, default={})
+    parser.add_argument("--teacher-kwargs", type=_mapping, default={})
     args = parser.parse_args()
     config = load_dagger_config(args.config)
     kwargs = {**config.teacher_kwargs, **args.teacher_kwargs}
