@@ -31,23 +31,11 @@ import radial_ibvs_gym  # noqa: F401  (registers the envs)
 from agents.analytic import make_analytic
 from agents.experiments.suites import HELD_OUT_SEED
 from agents.learned.distill import goal_in_robot_frame
-from agents.learned.pose_layer import solve_goal_pose
+from agents.learned.pose_layer import solve_one
 
 ENV = {"scenario": "random", "physics": "kinematic", "obs_mode": "features", "goal_depths": True}
 CAMERA = {"mirror": "A", "non_central_offset": 0.01}
 CALIBRATION = {"principal_point_offset": [2.0, -1.0], "focal_ratio_error": 0.01}
-
-
-def _solve(points, visible, goal_points, goal_visible, depths) -> tuple[np.ndarray, bool]:
-    """Return the solved ``(t_x, t_y, cos, sin)`` and whether it is valid."""
-    n = len(points)
-    mask = np.asarray(visible, bool) & np.asarray(goal_visible, bool)
-    pose, valid = solve_goal_pose(
-        *(torch.tensor(np.asarray(a, dtype=float)[:n])[None] for a in (points, goal_points)),
-        torch.tensor(np.asarray(depths, dtype=float)[:n])[None],
-        torch.tensor(mask.astype(float))[None],
-    )
-    return pose[0].numpy(), bool(valid[0])
 
 
 def turned_at_goal(episodes: int, seed: int, angles: tuple[float, ...]) -> dict[float, list]:
@@ -56,15 +44,15 @@ def turned_at_goal(episodes: int, seed: int, angles: tuple[float, ...]) -> dict[
     env = gym.make("RadialIBVS/Parking-v0", **ENV, camera={**CAMERA, "imperfections": CALIBRATION})
     out: dict[float, list] = {a: [] for a in angles}
     for episode in range(episodes):
-        obs, _ = env.reset(seed=seed + episode)
+        env.reset(seed=seed + episode)
         u = env.unwrapped
         setup = u._setup
         for angle in angles:
             pose = np.array(setup.episode.goal, dtype=float)  # a copy: the goal stays
             pose[2] += np.radians(angle)
             points, visible = u.image(setup, pose, "current", u.np_random)
-            solved, valid = _solve(
-                points, visible, setup.goal_points, setup.goal_visible, obs["goal_depths"]
+            solved, valid = solve_one(
+                points, visible, setup.goal_points, setup.goal_visible, setup.goal_depths
             )
             # the goal's heading relative to the robot's is -angle
             heading = np.arctan2(solved[3], solved[2]) + np.radians(angle)
@@ -87,10 +75,10 @@ def along_planner_paths(episodes: int, seed: int) -> np.ndarray:
         obs, _ = env.reset(seed=seed + episode)
         state = None
         for _ in range(600):
-            solved, valid = _solve(
+            solved, valid = solve_one(
                 obs["points"].reshape(-1, 2), obs["visible"] > 0.5,
                 obs["goal_points"].reshape(-1, 2),
-                np.linalg.norm(obs["goal_points"].reshape(-1, 2), axis=1) > 0.5,
+                np.linalg.norm(obs["goal_points"].reshape(-1, 2), axis=1),
                 obs["goal_depths"],
             )  # fmt: skip
             truth = 3.0 * goal_in_robot_frame(obs)[0, :2].astype(float)

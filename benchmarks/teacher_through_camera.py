@@ -31,12 +31,11 @@ from typing import Any
 
 import gymnasium as gym
 import numpy as np
-import torch
 
 from agents.analytic import make_analytic
-from agents.experiments.suites import HELD_OUT_SEED, SUITES
+from agents.experiments.suites import HELD_OUT_SEED, imperfect_cameras
 from agents.learned.distill_config import PRIVILEGED, load_dagger_config
-from agents.learned.pose_layer import solve_goal_pose
+from agents.learned.pose_layer import solve_one
 from agents.runner import run_episode
 
 
@@ -46,14 +45,14 @@ def solved_robot_pose(obs: dict[str, Any]) -> np.ndarray | None:
     The goal's pose (privileged) composed with the inverse of the relative pose solved from
     the current and goal bearings and the goal depths (metres, radians).
     """
-    now = torch.as_tensor(obs["points"]).reshape(1, -1, 2)
-    goal = torch.as_tensor(obs["goal_points"]).reshape(1, -1, 2)
-    depth = torch.as_tensor(obs["goal_depths"]).reshape(1, -1)
-    seen = (goal.norm(dim=2) > 0.5) & (torch.as_tensor(obs["visible"]).reshape(1, -1) > 0.5)
-    pose, valid = solve_goal_pose(now, goal, depth, seen.double())
-    if not bool(valid[0]):
+    goal_points = np.asarray(obs["goal_points"]).reshape(-1, 2)
+    pose, valid = solve_one(
+        obs["points"], obs["visible"], goal_points, np.linalg.norm(goal_points, axis=1),
+        obs["goal_depths"],
+    )  # fmt: skip
+    if not valid:
         return None
-    tx, ty, c, s = (float(v) for v in pose[0])
+    tx, ty, c, s = (float(v) for v in pose)
     gx, gy, gyaw = (float(v) for v in obs["goal_pose"])
     yaw = gyaw - math.atan2(s, c)  # the goal's heading relative to the robot's is atan2(s, c)
     return np.array(
@@ -84,18 +83,6 @@ class ImageTeacher:
         return self.teacher.predict(seen, state, episode_start, deterministic)
 
 
-def variants(labels: list[str]) -> dict[str, dict[str, Any]]:
-    """Return the env overrides of the ``imperfect`` variants named (``ideal``: no errors)."""
-    table = {v.label: dict(v.overrides) for v in SUITES["imperfect"]}
-    ideal = dict(next(iter(table.values())))
-    ideal["camera"] = {k: v for k, v in ideal["camera"].items() if k != "imperfections"}
-    table["ideal"] = ideal
-    unknown = [label for label in labels if label not in table]
-    if unknown:
-        raise SystemExit(f"unknown variant(s) {unknown}; valid: {list(table)}")
-    return {label: table[label] for label in labels}
-
-
 def _mapping(text: str) -> dict[str, Any]:
     """``--teacher-kwargs``: a JSON object."""
     try:
@@ -105,6 +92,13 @@ def _mapping(text: str) -> dict[str, Any]:
     if not isinstance(value, dict):
         raise argparse.ArgumentTypeError(f"expected a JSON object, got {text!r}")
     return value
+
+
+def _cameras(labels: list[str]) -> dict[str, dict[str, Any]]:
+    try:
+        return imperfect_cameras(labels)
+    except ValueError as error:
+        raise SystemExit(str(error)) from None
 
 
 def main() -> None:
@@ -120,7 +114,7 @@ def main() -> None:
     config = load_dagger_config(args.config)
     kwargs = {**config.teacher_kwargs, **args.teacher_kwargs}
     env_kwargs = {**config.env_kwargs, "physics": "kinematic"}
-    chosen = variants(args.variants)
+    chosen = _cameras(args.variants)
     print(f"teacher {config.teacher} {kwargs}")
     for label, overrides in chosen.items():
         env = gym.make(config.env_id, **{**env_kwargs, **overrides, **PRIVILEGED})

@@ -23,7 +23,9 @@ from __future__ import annotations
 
 from typing import Any
 
-__all__ = ["POSE_FEATURES", "goal_pose_features", "solve_goal_pose"]
+import numpy as np
+
+__all__ = ["POSE_FEATURES", "goal_pose_features", "solve_goal_pose", "solve_one"]
 
 #: the number of features :func:`goal_pose_features` returns per sample
 POSE_FEATURES = 13
@@ -78,6 +80,44 @@ def solve_goal_pose(now: Any, goal: Any, depth: Any, mask: Any) -> tuple[Any, An
         valid = (w.sum(dim=-1) >= 3) & (scale > 1e-6) & gap & torch.isfinite(z).all(dim=-1)
         z = torch.where(valid[..., None], z, torch.zeros_like(z))
         return torch.stack([z[..., 2], z[..., 3], z[..., 0], z[..., 1]], dim=-1), valid
+
+
+def solve_one(
+    points: Any, visible: Any, goal_points: Any, goal_visible: Any, depths: Any
+) -> tuple[np.ndarray, bool]:
+    """:func:`solve_goal_pose` for one image pair, numpy in and out (diagnostics, benchmarks).
+
+    Parameters
+    ----------
+    points, goal_points
+        ``(N, 2)`` (or flattened ``(2N,)``) current and goal image points.
+    visible, goal_visible
+        ``(N,)`` whether each landmark is seen now and in the goal image (truthy values; an
+        observation's ``goal_visible`` is ``|x_n*| > 0.5``, hidden slots being zeros).
+    depths
+        ``(N,)`` goal depths ``d*``, metres, in the same order as the points.
+
+    Returns
+    -------
+    pose : numpy.ndarray
+        ``(4,)`` float64 ``(t_x, t_y, cos theta, sin theta)`` (zeros where not valid).
+    valid : bool
+    """
+    import torch
+
+    now = np.asarray(points, dtype=np.float64).reshape(-1, 2)
+    goal = np.asarray(goal_points, dtype=np.float64).reshape(-1, 2)
+    n = len(now)
+    seen = (np.asarray(visible, dtype=np.float64).reshape(-1)[:n] > 0.5) & (
+        np.asarray(goal_visible, dtype=np.float64).reshape(-1)[:n] > 0.5
+    )
+    pose, valid = solve_goal_pose(
+        torch.from_numpy(now)[None],
+        torch.from_numpy(goal[:n])[None],
+        torch.from_numpy(np.asarray(depths, dtype=np.float64).reshape(-1)[:n].copy())[None],
+        torch.from_numpy(seen.astype(np.float64))[None],
+    )
+    return pose[0].numpy(), bool(valid[0])
 
 
 def goal_pose_features(now: Any, goal: Any, depth: Any, mask: Any, eps: float = 1e-3) -> Any:

@@ -1,0 +1,84 @@
+"""The image goal (benchmarks/goal_image_limit.py) and the imperfect suite's cameras."""
+
+from __future__ import annotations
+
+import importlib.util
+import math
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+from agents.experiments.suites import SUITES, imperfect_cameras
+from agents.learned.pose_layer import solve_one
+
+
+def _script():
+    path = Path(__file__).parents[1] / "benchmarks" / "goal_image_limit.py"
+    spec = importlib.util.spec_from_file_location("goal_image_limit", path)
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    return script
+
+
+def _env(label: str) -> gym.Env:
+    return gym.make("RadialIBVS/Parking-v0", **imperfect_cameras([label])[label], privileged=True)
+
+
+def test_imperfect_cameras_are_the_suites_and_ideal_has_no_imperfections():
+    labels = [v.label for v in SUITES["imperfect"]]
+    table = imperfect_cameras([*labels, "ideal"])
+    for variant in SUITES["imperfect"]:
+        assert table[variant.label] == {"scenario": variant.scenario, **variant.overrides}
+    assert "imperfections" not in table["ideal"]["camera"]
+    assert table["ideal"]["camera"]["mirror"] == table[labels[0]]["camera"]["mirror"]
+    with pytest.raises(ValueError, match="moon"):
+        imperfect_cameras(["moon"])
+
+
+def test_compose_places_the_solved_goal_where_it_is():
+    # from a pose off the goal, the relative pose solved through an ideal camera, composed
+    # with that pose, is the goal (the convention of solve_one's (t, cos, sin))
+    script = _script()
+    env = _env("ideal")
+    rng = np.random.default_rng(0)
+    for episode in range(6):
+        env.reset(seed=episode)
+        setup = env.unwrapped._setup
+        goal = np.array(setup.episode.goal, dtype=np.float64)
+        pose = goal + np.array([*rng.uniform(-0.3, 0.3, 2), rng.uniform(-1.0, 1.0)])
+        points, visible = env.unwrapped.image(setup, pose, "current", None)
+        relative, valid = solve_one(
+            points, visible, setup.goal_points, setup.goal_visible, setup.goal_depths
+        )
+        assert valid
+        found = script.compose(pose, relative)
+        np.testing.assert_allclose(found[:2], goal[:2], atol=1e-6)
+        assert abs((found[2] - goal[2] + math.pi) % (2 * math.pi) - math.pi) < 1e-6
+    env.close()
+
+
+def test_the_image_goal_is_the_goal_through_an_ideal_camera_and_moves_with_noise():
+    script = _script()
+    for label in ("ideal", "pp (2, -1) px, fy +1 %", "noise 1 px"):
+        env = _env(label)
+        offsets = []
+        for episode in range(4):
+            env.reset(seed=100_000 + episode)
+            setup = env.unwrapped._setup
+            goal = np.array(setup.episode.goal, dtype=np.float64)
+            found = script.image_goal(env)
+            assert found is not None
+            offsets.append(math.hypot(*(found[:2] - goal[:2])))
+            # a fixed point: the noise-free image there matches the goal image best
+            points, visible = env.unwrapped.image(setup, found, "current", None)
+            rest, _ = solve_one(
+                points, visible, setup.goal_points, setup.goal_visible, setup.goal_depths
+            )
+            assert math.hypot(rest[0], rest[1]) < 1e-5 and abs(rest[3]) < 1e-5
+        env.close()
+        if label == "noise 1 px":  # one noisy draw of the goal image moves the goal
+            assert np.median(offsets) > 1e-3
+        else:  # the calibration error cancels at the goal: the same camera took both images
+            assert max(offsets) < 1e-6
