@@ -129,25 +129,17 @@ def measure(overrides: dict[str, Any], episodes: int, drive: bool = True) -> dic
     return {"off_m": m, "off_rad": rad, "inside": inside, "parked": parked if drive else None}
 
 
-def _cameras(labels: list[str]) -> dict[str, dict[str, Any]]:
-    try:
-        return imperfect_cameras(labels)
-    except ValueError as error:
-        raise SystemExit(str(error)) from None
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--episodes", type=int, default=100)
     parser.add_argument(
-        "--variants", nargs="+",
-        default=["ideal", "noise 1 px", "pp (2, -1) px, fy +1 %", "all together",
-                 "drawn per episode"],
+        "--variants", nargs="+", choices=list(imperfect_cameras()),
+        default=["ideal", *(v for v in imperfect_cameras() if v != "ideal")],
     )  # fmt: skip
     args = parser.parse_args()
     if args.episodes < 1:
         raise SystemExit(f"--episodes must be at least 1, got {args.episodes}")
-    chosen = _cameras(args.variants)
+    chosen = imperfect_cameras(args.variants)
     print(f"{args.episodes} held-out rooms (seeds from {HELD_OUT_SEED}), 2 cm / 2 deg")
     print(
         "| variant | image goal off: median / 90th pct | heading off: median / 90th pct "

@@ -94,27 +94,20 @@ def _mapping(text: str) -> dict[str, Any]:
     return value
 
 
-def _cameras(labels: list[str]) -> dict[str, dict[str, Any]]:
-    try:
-        return imperfect_cameras(labels)
-    except ValueError as error:
-        raise SystemExit(str(error)) from None
-
-
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("config", type=Path)
     parser.add_argument("--episodes", type=int, default=100)
     parser.add_argument(
-        "--variants", nargs="+", default=["ideal", "noise 1 px", "pp (2, -1) px, fy +1 %",
-                                          "all together"],
+        "--variants", nargs="+", choices=list(imperfect_cameras()),
+        default=["ideal", "noise 1 px", "pp (2, -1) px, fy +1 %", "all together"],
     )  # fmt: skip
     parser.add_argument("--teacher-kwargs", type=_mapping, default={})
     args = parser.parse_args()
     config = load_dagger_config(args.config)
     kwargs = {**config.teacher_kwargs, **args.teacher_kwargs}
     env_kwargs = {**config.env_kwargs, "physics": "kinematic"}
-    chosen = _cameras(args.variants)
+    chosen = imperfect_cameras(args.variants)
     print(f"teacher {config.teacher} {kwargs}")
     for label, overrides in chosen.items():
         env = gym.make(config.env_id, **{**env_kwargs, **overrides, **PRIVILEGED})

@@ -33,6 +33,7 @@ def test_imperfect_cameras_are_the_suites_and_ideal_has_no_imperfections():
         assert table[variant.label] == {"scenario": variant.scenario, **variant.overrides}
     assert "imperfections" not in table["ideal"]["camera"]
     assert table["ideal"]["camera"]["mirror"] == table[labels[0]]["camera"]["mirror"]
+    assert list(imperfect_cameras()) == [*labels, "ideal"]
     with pytest.raises(ValueError, match="moon"):
         imperfect_cameras(["moon"])
 

@@ -192,11 +192,14 @@ def suite_variants(names: list[str] | tuple[str, ...]) -> list[Variant]:
     return [variant for name in names for variant in SUITES[name]]
 
 
-def imperfect_cameras(labels: list[str] | tuple[str, ...]) -> dict[str, dict[str, Any]]:
+def imperfect_cameras(
+    labels: list[str] | tuple[str, ...] | None = None,
+) -> dict[str, dict[str, Any]]:
     """Return the ``imperfect`` suite's ``gym.make`` arguments by variant label (scenario too).
 
-    ``"ideal"`` names the same rooms through the ideal camera. For diagnostics that run
-    their own policies through the suite's cameras (``benchmarks/teacher_through_camera.py``).
+    ``"ideal"`` names the same rooms through the ideal camera; ``labels=None``: every variant,
+    ``"ideal"`` last. For diagnostics that run their own policies through the suite's cameras
+    (``benchmarks/teacher_through_camera.py``).
 
     Raises
     ------
@@ -207,6 +210,8 @@ def imperfect_cameras(labels: list[str] | tuple[str, ...]) -> dict[str, dict[str
     first = next(iter(table.values()))
     camera = {k: v for k, v in first["camera"].items() if k != "imperfections"}
     table["ideal"] = {**first, "camera": camera}
+    if labels is None:
+        return table
     unknown = [label for label in labels if label not in table]
     if unknown:
         raise ValueError(f"unknown imperfect variant(s) {unknown}; valid: {list(table)}")
