@@ -1,4 +1,4 @@
-"""Where the goal image puts the goal: the limit of a policy that knows the goal by its image.
+"""Where the goal image puts the goal: the limit of a policy that settles where images match.
 
 Usage::
 
@@ -17,9 +17,9 @@ For the ``imperfect`` suite's variants (``ideal``: the same rooms through the id
 on its held-out seeds, this prints how far the image goal lies from the true one, how often
 it lies within the success tolerance (2 cm / 2 deg), and how many episodes the ``planner``
 parks when it is handed the true poses and the map but drives to the image goal: the limit
-of a policy that converges to where the images match. A policy that does not converge there
-(its own pose jittering with the current image's noise) may still cross the true tolerance
-by chance, since the episode ends at the first step within it. It calls the env's camera
+of a policy that settles where the images match. It is not a bound on every policy: one that
+keeps moving near the image goal may cross the true tolerance, since the episode ends at the
+first step within it. It calls the env's camera
 model at chosen poses (``env.unwrapped.image``): a diagnostic, not something a policy could
 do.
 """
