@@ -2,7 +2,8 @@
 
 Usage::
 
-    python benchmarks/goal_image_limit.py [--episodes 100] [--variants ideal "noise 1 px" ...]
+    python benchmarks/goal_image_limit.py [--episodes 100] [--variants ideal "noise 1 px" ...] \
+        [--teacher-of configs/agents/CONFIG.yaml] [--pose-noise 0.01]
 
 An image-based policy knows the goal only through the goal image, taken once per episode
 through the episode's camera. With pixel noise that image is one noisy draw, and the pose
@@ -19,7 +20,9 @@ it lies within the success tolerance (2 cm / 2 deg), and how many episodes the `
 parks when it is handed the true poses and the map but drives to the image goal: the limit
 of a policy that settles where the images match. It is not a bound on every policy: one that
 keeps moving near the image goal may cross the true tolerance, since the episode ends at the
-first step within it. It calls the env's camera
+first step within it. ``--teacher-of CONFIG`` drives with a DAgger config's teacher instead
+of the planner, and ``--pose-noise M`` adds that much Gaussian noise to the position the
+driver is handed every step: what a policy that does not settle may gain. It calls the env's camera
 model at chosen poses (``env.unwrapped.image``): a diagnostic, not something a policy could
 do.
 """
@@ -29,6 +32,7 @@ from __future__ import annotations
 import argparse
 import math
 import time
+from pathlib import Path
 from typing import Any
 
 import gymnasium as gym
@@ -36,10 +40,10 @@ import numpy as np
 
 from agents.analytic import make_analytic
 from agents.experiments.suites import HELD_OUT_SEED, imperfect_cameras
+from agents.learned.distill_config import PRIVILEGED, load_dagger_config
 from agents.learned.pose_layer import solve_one
 from agents.runner import run_episode
-
-PRIVILEGED = {"privileged": True, "privileged_map": True}
+from radial_ibvs_gym.geometry import relative_pose
 
 
 def compose(pose: np.ndarray, relative: np.ndarray) -> np.ndarray:
@@ -81,12 +85,20 @@ def image_goal(env: gym.Env, iterations: int = 20) -> np.ndarray | None:
 
 
 class ToImageGoal:
-    """The ``planner`` (true poses, the map) driving to the image goal instead of the goal."""
+    """A privileged policy (true poses, the map) driving to the image goal instead of the goal.
+
+    ``planner`` defaults to the ``planner`` (the limit policy); ``pose_noise`` (metres, >= 0)
+    adds Gaussian noise to the position it is handed at every step (seeded by ``seed``).
+    """
 
     env_kwargs = PRIVILEGED
 
-    def __init__(self) -> None:
-        self.planner = make_analytic("planner")
+    def __init__(self, planner: Any = None, pose_noise: float = 0.0, seed: int = 0) -> None:
+        if not (math.isfinite(pose_noise) and pose_noise >= 0.0):
+            raise ValueError(f"pose_noise must be a finite number >= 0 m, got {pose_noise!r}")
+        self.planner = make_analytic("planner") if planner is None else planner
+        self.pose_noise = float(pose_noise)
+        self.rng = np.random.default_rng(seed)
         self.goal: np.ndarray | None = None
 
     def predict(
@@ -96,37 +108,42 @@ class ToImageGoal:
         seen = dict(obs)
         if self.goal is not None:
             seen["goal_pose"] = self.goal
+        if self.pose_noise > 0.0:
+            pose = np.array(obs["robot_pose"], dtype=np.float64)
+            pose[:2] += self.rng.normal(0.0, self.pose_noise, 2)
+            seen["robot_pose"] = pose
         return self.planner.predict(seen, state, episode_start, deterministic)
 
 
-def measure(overrides: dict[str, Any], episodes: int, drive: bool = True) -> dict[str, Any]:
+def measure(
+    overrides: dict[str, Any], episodes: int, policy: ToImageGoal | None = None
+) -> dict[str, Any]:
     """Image goals of ``episodes`` held-out rooms through a variant's camera, and the planner.
 
     Returns the offsets ``off_m`` and ``off_rad`` ``(episodes,)`` (metres, radians; ``inf``
-    where unsolved), ``inside`` (within the success tolerance) and, with ``drive``,
-    ``parked``: how many the planner parks driving to the image goal.
+    where unsolved), ``inside`` (within the success tolerance) and ``parked``: how many the
+    planner (or ``policy``) parks driving to the image goal.
     """
     env = gym.make("RadialIBVS/Parking-v0", **{**overrides, **PRIVILEGED})
     u: Any = env.unwrapped
-    policy = ToImageGoal()
+    policy = ToImageGoal() if policy is None else policy
     off_m, off_rad, parked = [], [], 0
     for k in range(episodes):
         env.reset(seed=HELD_OUT_SEED + k)
-        goal = np.array(u._setup.episode.goal, dtype=np.float64)
         found = image_goal(env)
         if found is None:
             off_m.append(math.inf)
             off_rad.append(math.inf)
         else:
-            off_m.append(math.hypot(found[0] - goal[0], found[1] - goal[1]))
-            off_rad.append(abs((found[2] - goal[2] + math.pi) % (2 * math.pi) - math.pi))
-        if drive:
-            policy.goal = found
-            parked += bool(run_episode(policy, env, seed=HELD_OUT_SEED + k).info["is_success"])
+            off = relative_pose(u._setup.episode.goal, found)
+            off_m.append(math.hypot(off[0], off[1]))
+            off_rad.append(abs(off[2]))
+        policy.goal = found
+        parked += bool(run_episode(policy, env, seed=HELD_OUT_SEED + k).info["is_success"])
     env.close()
     m, rad = np.asarray(off_m), np.asarray(off_rad)
     inside = int(np.sum((m <= u.success_position_m) & (rad <= u.success_heading_rad)))
-    return {"off_m": m, "off_rad": rad, "inside": inside, "parked": parked if drive else None}
+    return {"off_m": m, "off_rad": rad, "inside": inside, "parked": parked}
 
 
 def main() -> None:
@@ -136,19 +153,36 @@ def main() -> None:
         "--variants", nargs="+", choices=list(imperfect_cameras()),
         default=["ideal", *(v for v in imperfect_cameras() if v != "ideal")],
     )  # fmt: skip
+    parser.add_argument(
+        "--teacher-of", type=Path, metavar="CONFIG",
+        help="drive with this DAgger config's teacher instead of the planner",
+    )  # fmt: skip
+    parser.add_argument(
+        "--pose-noise", type=float, default=0.0, metavar="M",
+        help="Gaussian noise (metres) added to the driver's position every step",
+    )  # fmt: skip
     args = parser.parse_args()
     if args.episodes < 1:
         raise SystemExit(f"--episodes must be at least 1, got {args.episodes}")
     chosen = imperfect_cameras(args.variants)
+    driver = None
+    if args.teacher_of is not None:
+        config = load_dagger_config(args.teacher_of)
+        driver = make_analytic(config.teacher, **config.teacher_kwargs)
+    print(f"driver: {'planner' if driver is None else f'the teacher of {args.teacher_of}'}")
+    try:
+        ToImageGoal(driver, args.pose_noise)
+    except ValueError as error:
+        raise SystemExit(str(error)) from None
     print(f"{args.episodes} held-out rooms (seeds from {HELD_OUT_SEED}), 2 cm / 2 deg")
     print(
         "| variant | image goal off: median / 90th pct | heading off: median / 90th pct "
-        "| image goal within tolerance | planner to the image goal parks |"
+        "| image goal within tolerance | driven to the image goal, parked |"
     )
     print("|---|---|---|---|---|")
     for label, overrides in chosen.items():
         start = time.perf_counter()
-        r = measure(overrides, args.episodes)
+        r = measure(overrides, args.episodes, ToImageGoal(driver, args.pose_noise))
         m, deg = r["off_m"] * 100.0, np.degrees(r["off_rad"])
         print(
             f"| {label} | {np.median(m):.2f} / {np.percentile(m, 90):.2f} cm "

@@ -83,3 +83,8 @@ def test_the_image_goal_is_the_goal_through_an_ideal_camera_and_moves_with_noise
             assert np.median(offsets) > 1e-3
         else:  # the calibration error cancels at the goal: the same camera took both images
             assert max(offsets) < 1e-6
+
+
+def test_the_image_goal_driver_refuses_a_negative_pose_noise():
+    with pytest.raises(ValueError, match="pose_noise"):
+        _script().ToImageGoal(pose_noise=-0.01)
