@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import itertools
 import json
+from dataclasses import replace
 
 import numpy as np
 import pytest
@@ -261,6 +262,19 @@ def test_dagger_is_deterministic_under_a_seed(student, tmp_path):
     again = dagger(config, tmp_path / "again", seed=3, progress=False)
     assert (again / "policy.safetensors").read_bytes() == (out / "policy.safetensors").read_bytes()
     assert (again / "normalization.npz").read_bytes() == (out / "normalization.npz").read_bytes()
+
+
+def test_a_round_depends_only_on_the_rounds_before_it(student, tmp_path):
+    """A shorter run's rounds are the longer run's first rounds, bit for bit (so a config's
+    fewer-rounds twin shares its seeds' checkpoints)."""
+    config, out = student
+    fewer = replace(config, rounds=config.rounds - 1)
+    shorter = dagger(fewer, tmp_path / "short", seed=3, progress=False)
+    for k in range(config.rounds - 1):
+        for name in ("policy.safetensors", "normalization.npz"):
+            a = (shorter / "rounds" / f"round_{k}" / name).read_bytes()
+            assert a == (out / "rounds" / f"round_{k}" / name).read_bytes(), (k, name)
+    assert not (shorter / "rounds" / f"round_{config.rounds - 1}").exists()
 
 
 @pytest.mark.parametrize(
