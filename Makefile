@@ -3,7 +3,7 @@ PY ?= python3
 VENV ?= .venv
 BIN := $(VENV)/bin
 
-.PHONY: setup demo test test-fast lint format type bench clean docs
+.PHONY: setup demo test test-fast test-random lint format type bench clean docs
 
 $(BIN)/python:
 	$(PY) -m venv $(VENV)
@@ -18,8 +18,18 @@ demo: setup
 test: setup
 	$(BIN)/python -m pytest
 
+# the fast subset (no training, no notebooks, no wheel build): a few minutes
 test-fast:
-	$(BIN)/python -m pytest -x -q -m "not slow"
+	$(BIN)/python -m pytest -q -m "not slow"
+
+# the property tests with new random draws, HYPOTHESIS_RUNS times over (CI draws the same
+# examples every run: derandomised); a failure prints the draw to pin with @example
+HYPOTHESIS_RUNS ?= 10
+test-random:
+	for i in $$(seq $(HYPOTHESIS_RUNS)); do \
+		HYPOTHESIS_PROFILE=random $(BIN)/python -m pytest -q -p no:cacheprovider \
+			$$(grep -l "from hypothesis" tests/*.py) || exit 1; \
+	done
 
 lint:
 	$(BIN)/ruff check .

@@ -71,6 +71,10 @@ _FACTORIES: dict[str, Callable[..., Policy]] = {
 POLICY_NAMES = tuple(_FACTORIES)
 
 
+#: policies renamed before 0.1: the old name gets an error that gives the new one
+RENAMED = {"ppo-student": "dagger-student"}  # distilled from the planner by DAgger, not PPO
+
+
 def make_policy(name: str, *, trust_pickle: bool = False, **kwargs: Any) -> Policy:
     """Build a policy by its name.
 
@@ -101,5 +105,7 @@ def make_policy(name: str, *, trust_pickle: bool = False, **kwargs: Any) -> Poli
         if kwargs:
             raise ValueError(f"a learned model takes no arguments, got {sorted(kwargs)}")
         return load(name, trust_pickle=trust_pickle)
+    if name in RENAMED:
+        raise ValueError(f"the policy {name!r} is now called {RENAMED[name]!r}")
     valid = [*POLICY_NAMES, *shipped_models()]
     raise ValueError(f"unknown policy {name!r}; valid: {valid} or a model directory")

@@ -113,7 +113,7 @@ def _image(obs: Mapping[str, Any]) -> tuple[Any, Any, Any]:
     """Return the current points, their visibility and the goal points of an observation.
 
     ``Parking-v0`` has them as ``points``, ``visible`` and ``goal_points``; the goal-conditioned
-    ``ParkingGoal-v0`` as ``achieved_goal``, the last third of ``observation`` and
+    ``ParkingGoal-v1`` as ``achieved_goal``, the last third of ``observation`` and
     ``desired_goal``.
     """
     if "points" in obs:

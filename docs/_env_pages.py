@@ -10,10 +10,6 @@ from pathlib import Path
 ENVS = {
     "RadialIBVS/Parking-v0": ("parking", "radial_ibvs_gym.envs.parking.ParkingEnv"),
     "RadialIBVS/ParkingGoal-v1": (
-        "parking-goal-v1",
-        "radial_ibvs_gym.envs.parking_goal.ParkingGoalEnvV1",
-    ),
-    "RadialIBVS/ParkingGoal-v0": (
         "parking-goal",
         "radial_ibvs_gym.envs.parking_goal.ParkingGoalEnv",
     ),

@@ -13,6 +13,7 @@ limit                  value       what it bounds
 ``MAX_NUM_ENVS``       4096        robots of one native vector env (``num_envs``)
 ``MAX_CONFIG_BYTES``   1 MiB       size of a YAML config file
 ``MAX_CONFIG_DEPTH``   32          nesting of lists and mappings in a YAML config
+``MAX_CONFIG_BASES``   8           chained ``base:`` files under one config overlay
 =====================  ==========  ===================================================
 
 YAML anchors and aliases (``&name``, ``*name``) are refused outright: they let a file of a
@@ -22,6 +23,7 @@ few hundred bytes expand to gigabytes.
 from __future__ import annotations
 
 __all__ = [
+    "MAX_CONFIG_BASES",
     "MAX_CONFIG_BYTES",
     "MAX_CONFIG_DEPTH",
     "MAX_LANDMARKS",
@@ -34,3 +36,4 @@ MAX_OBSTACLES = 64
 MAX_NUM_ENVS = 4096
 MAX_CONFIG_BYTES = 1 << 20
 MAX_CONFIG_DEPTH = 32
+MAX_CONFIG_BASES = 8

@@ -18,15 +18,13 @@ __all__ = [
 #: every registered id, with the entry point of its scalar env
 ENTRY_POINTS: dict[str, str] = {
     "RadialIBVS/Parking-v0": "radial_ibvs_gym.envs.parking:ParkingEnv",
-    "RadialIBVS/ParkingGoal-v0": "radial_ibvs_gym.envs.parking_goal:ParkingGoalEnv",
-    "RadialIBVS/ParkingGoal-v1": "radial_ibvs_gym.envs.parking_goal:ParkingGoalEnvV1",
+    "RadialIBVS/ParkingGoal-v1": "radial_ibvs_gym.envs.parking_goal:ParkingGoalEnv",
     "RadialIBVS/ParkingImage-v0": "radial_ibvs_gym.envs.parking_image:ParkingImageEnv",
 }
 #: the ids with a native batched vector env (``gym.make_vec(..., "vector_entry_point")``)
 VECTOR_ENTRY_POINTS: dict[str, str] = {
     "RadialIBVS/Parking-v0": "radial_ibvs_gym.envs.parking_vector:ParkingVectorEnv",
-    "RadialIBVS/ParkingGoal-v0": "radial_ibvs_gym.envs.parking_vector:ParkingGoalVectorEnv",
-    "RadialIBVS/ParkingGoal-v1": "radial_ibvs_gym.envs.parking_vector:ParkingGoalVectorEnvV1",
+    "RadialIBVS/ParkingGoal-v1": "radial_ibvs_gym.envs.parking_goal:ParkingGoalVectorEnv",
 }
 ENV_IDS: tuple[str, ...] = tuple(ENTRY_POINTS)
 #: the time limit of every registration: 600 control steps (60 s at ``control_dt = 0.1`` s)

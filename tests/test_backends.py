@@ -159,6 +159,7 @@ def test_the_cli_says_it_resumes(tmp_path: Path, capsys) -> None:
 
 
 # --- Ray ----------------------------------------------------------------------------------------
+@pytest.mark.slow
 def test_ray_rows_are_bit_for_bit_the_local_ones(small_chunks, reference, ray_backend) -> None:
     results = benchmark.run_benchmark(
         POLICIES, SUITE_NAMES, episodes=4, progress=False, backend=ray_backend
@@ -176,6 +177,7 @@ def test_ray_servers_listen_on_localhost_only(ray_backend) -> None:
         assert ip.is_loopback or (mapped is not None and mapped.is_loopback), (ip, port)
 
 
+@pytest.mark.slow
 def test_a_killed_ray_worker_is_retried_and_the_rows_are_complete(
     small_chunks, reference, ray_backend, tmp_path: Path
 ) -> None:
@@ -264,6 +266,7 @@ def test_ctrl_c_in_the_cli_exits_130_and_says_how_to_resume(monkeypatch, capsys)
     assert "interrupted; the finished chunks are in OUT/chunks" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_ray_imported_first_is_refused_for_a_private_instance() -> None:
     import subprocess
 

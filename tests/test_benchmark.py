@@ -81,6 +81,7 @@ def test_benchmark_rows_follow_the_contract_and_summaries_count_them() -> None:
     assert random["success_rate"] == 0.0 and random["smoothness"] > 0.3
 
 
+@pytest.mark.slow
 def test_parallel_workers_give_the_same_rows_as_one_process() -> None:
     kwargs = {"episodes": 2, "progress": False}
     one = run_benchmark(["ibvs", "oracle"], ["physics"], workers=1, **kwargs)
@@ -151,6 +152,7 @@ def test_render_rejects_bad_formats_before_running(
     assert not list(tmp_path.iterdir())
 
 
+@pytest.mark.slow
 def test_long_variants_are_split_into_chunks_and_merged_back_in_seed_order(monkeypatch) -> None:
     from agents.experiments import benchmark
 

@@ -64,6 +64,7 @@ def test_a_huge_file_and_python_tags_are_refused(tmp_path: Path) -> None:
         read_yaml("a: [1, 2", "--env-kwarg a")
 
 
+@pytest.mark.slow
 def test_values_in_messages_are_shortened(tmp_path: Path) -> None:
     long_list = "[" + ", ".join(["1"] * 100_000) + "]"
     with pytest.raises(ConfigError) as caught:
@@ -128,6 +129,7 @@ def _yaml(value: object) -> str:
     return yaml.safe_dump(value, default_flow_style=True, width=math.inf)
 
 
+@pytest.mark.slow
 @FUZZ
 @given(key=st.sampled_from(sorted(LAB)), value=_values)
 def test_a_bad_value_of_a_key_gives_a_config_error_naming_it(

@@ -125,6 +125,7 @@ def test_bad_curriculum_configs_are_named(data: object, match: str) -> None:
         CurriculumConfig.from_mapping(data, "curriculum")  # type: ignore[arg-type]
 
 
+@pytest.mark.slow
 def test_training_with_the_curriculum_raises_start_reach(tmp_path: Path) -> None:
     config = load_train_config(CONFIGS / "ppo_curriculum.yaml")
     assert config.curriculum == CurriculumConfig(start=0.05, until=0.6)
@@ -143,6 +144,7 @@ def test_training_with_the_curriculum_raises_start_reach(tmp_path: Path) -> None
     assert reach == pytest.approx(expected) and reach[-1] == 1.0
 
 
+@pytest.mark.slow
 def test_the_her_config_builds_sac_with_her(tmp_path: Path) -> None:
     from stable_baselines3 import HerReplayBuffer
 
@@ -156,7 +158,7 @@ def test_the_her_config_builds_sac_with_her(tmp_path: Path) -> None:
     small.algo_kwargs.update(learning_starts=100, buffer_size=2000)
     out = train(small, tmp_path / "sac", algo="sac", total_timesteps=300, progress=False)
     assert (out / "model.zip").is_file()
-    # the benchmark runs it in its own env (ParkingGoal-v0), like any other policy
+    # the benchmark runs it in its own env (ParkingGoal-v1), like any other policy
     from agents.experiments.jobs import Job, run_job
     from agents.experiments.suites import SUITES
 
@@ -164,6 +166,6 @@ def test_the_her_config_builds_sac_with_her(tmp_path: Path) -> None:
     assert result.skipped is None and len(result.rows) == 2
     assert all(row["steps"] <= 20 for row in result.rows)
     bad = tmp_path / "bad.yaml"
-    bad.write_text("RadialIBVS/ParkingGoal-v0:\n  replay_buffer_class: Foo\n")
+    bad.write_text("RadialIBVS/ParkingGoal-v1:\n  replay_buffer_class: Foo\n")
     with pytest.raises(ValueError, match="must be 'HerReplayBuffer', got 'Foo'"):
         load_train_config(bad)

@@ -326,6 +326,7 @@ def test_each_rounds_fit_anneals_the_step_size_from_the_full_one(tmp_path):
     assert round_schedule(optimiser, load_dagger_config(path)) is None
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("extractor", "cls"),
     [
@@ -385,22 +386,6 @@ def test_ppo_fine_tuning_starts_from_the_student(student, tmp_path):
         np.testing.assert_allclose(a, b, atol=0.03)
         assert np.abs(b).max() > 0.3  # not a fresh network's near-zero actions
         obs, _, starts, _ = venv.step(a)
-
-
-def test_every_shipped_agent_config_loads():
-    """Each configs/agents file validates: DAgger files as DAgger, the others as rl-zoo3."""
-    from pathlib import Path
-
-    from agents.learned.zoo_config import load_train_config
-
-    files = sorted((Path(__file__).resolve().parents[1] / "configs" / "agents").glob("*.yaml"))
-    assert any(p.name == "dagger_planner.yaml" for p in files)
-    for path in files:
-        if path.name.startswith("dagger"):
-            config = load_dagger_config(path)
-            assert config.teacher == "planner"
-        else:
-            load_train_config(path)
 
 
 def _fine_tune_config(tmp_path, extra: str) -> object:
@@ -532,7 +517,7 @@ def test_an_exported_student_ships_as_an_sb3_ppo_model(student, tmp_path):
     from agents.learned.training import export_model
 
     _, out = student
-    shipped = export_model(out, tmp_path / "ppo-student")
+    shipped = export_model(out, tmp_path / "dagger-student")
     meta = json.loads((shipped / "metadata.json").read_text())
     assert meta["shipped"].startswith(f"round {meta['best_round']}:")
     policy, _ = load_policy(shipped)

@@ -61,6 +61,7 @@ def test_the_python_snippets_of_each_docs_page_run(page: str) -> None:
 def test_relative_links_in_the_readme_and_docs_point_to_files_that_exist() -> None:
     pages = [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
     pages.append(ROOT / "notebooks" / "README.md")
+    pages += [ROOT / "research" / "README.md", ROOT / "research" / "learned-studies.md"]
     broken = []
     for page in pages:
         for target in re.findall(r"\]\(([^)#\s]+)(?:#[^)]*)?\)", page.read_text()):

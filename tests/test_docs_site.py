@@ -43,6 +43,7 @@ def _chromium(page: Path, tmp_path: Path, *args: str) -> subprocess.CompletedPro
     )  # fmt: skip
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(
     ("page", "expected"),
     [("index.html", "Visual servoing of mobile robots"), ("envs/parking.html", "Action Space")],

@@ -28,17 +28,12 @@ INFO_KEYS = {
 }
 
 
-#: the ids that warn (DeprecationWarning) when made
-DEPRECATED = {"RadialIBVS/ParkingGoal-v0"}
-
-
 @pytest.mark.parametrize("env_id", ENV_IDS)
 @pytest.mark.parametrize("scenario", SCENARIOS)
 @pytest.mark.parametrize("obs_mode", ["points", "features"])
 def test_gymnasium_and_sb3_checks_pass_without_warnings(env_id, scenario, obs_mode) -> None:
     if env_id.startswith("RadialIBVS/ParkingGoal-") and obs_mode == "features":
-        with pytest.raises(ValueError, match="obs_mode='points' only"), warnings.catch_warnings():
-            warnings.simplefilter("ignore", DeprecationWarning)
+        with pytest.raises(ValueError, match="obs_mode='points' only"):
             gym.make(env_id, scenario=scenario, obs_mode=obs_mode)
         return
     kwargs = {"scenario": scenario, "obs_mode": obs_mode}
@@ -48,17 +43,11 @@ def test_gymnasium_and_sb3_checks_pass_without_warnings(env_id, scenario, obs_mo
                 gym.make(env_id, **kwargs)
             return
         kwargs.pop("obs_mode")
-    if env_id in DEPRECATED:  # warns when made (and only then), then checks clean
-        with pytest.warns(DeprecationWarning, match="ParkingGoal-v1"):
-            envs = [gym.make(env_id, **kwargs).unwrapped for _ in range(2)]
-    else:
-        with warnings.catch_warnings():
-            warnings.simplefilter("error")
-            envs = [gym.make(env_id, **kwargs).unwrapped for _ in range(2)]
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        if env_id in DEPRECATED:  # the checkers make more of it: only that warning is allowed
-            warnings.filterwarnings("ignore", ".*ParkingGoal-v0 is deprecated", DeprecationWarning)
+        envs = [gym.make(env_id, **kwargs).unwrapped for _ in range(2)]
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
         check_env(envs[0])
         sb3_check_env(envs[1])
 
@@ -185,6 +174,7 @@ def test_bad_actions_and_options_are_named() -> None:
         env.reset(options={"start": [0.05, 5.0, 0.0]})
 
 
+@pytest.mark.slow
 def test_fuzz_random_actions_over_all_scenarios() -> None:
     """1,000 random-action episodes (50 steps each): no exception, no NaN in observations."""
     rng = np.random.default_rng(0)
@@ -207,23 +197,25 @@ def test_fuzz_random_actions_over_all_scenarios() -> None:
 
 
 def test_goal_env_reward_is_consistent_with_compute_reward() -> None:
-    env = gym.make("RadialIBVS/ParkingGoal-v0", task=0)
+    env = gym.make("RadialIBVS/ParkingGoal-v1", task=0)
     obs, _ = env.reset(seed=0)
     assert set(obs) == {"observation", "achieved_goal", "desired_goal"}
     obs, reward, _, _, info = env.step(np.array([0.4, 0.1], np.float32))
     r = env.unwrapped.compute_reward(obs["achieved_goal"], obs["desired_goal"], info)
-    assert info["reward_terms"]["image_distance"] == pytest.approx(float(r))
+    assert reward == float(r)
     assert reward == pytest.approx(sum(info["reward_terms"].values()))
     # batched, as HER calls it; zero when the images agree
     batch = np.stack([obs["achieved_goal"], obs["desired_goal"]])
     out = env.unwrapped.compute_reward(batch, np.stack([obs["desired_goal"]] * 2), [info] * 2)
-    assert out.shape == (2,) and out[1] == 0.0 and out[0] < 0.0
+    # identical images: no distance term, the success bonus (success in the image)
+    assert out.shape == (2,) and out[1] == env.unwrapped.config.success_bonus and out[0] < out[1]
 
 
+@pytest.mark.slow
 def test_goal_env_trains_with_sb3_her_smoke() -> None:
     from stable_baselines3 import SAC, HerReplayBuffer
 
-    env = gym.make("RadialIBVS/ParkingGoal-v0", scenario="random", max_episode_steps=40)
+    env = gym.make("RadialIBVS/ParkingGoal-v1", scenario="random", max_episode_steps=40)
     model = SAC(
         "MultiInputPolicy",
         env,
@@ -467,7 +459,7 @@ def test_max_landmarks_below_the_scene_is_a_clear_error() -> None:
     with pytest.raises(ValueError, match="max_landmarks"):
         gym.make("RadialIBVS/Parking-v0", scenario="paper-lab", max_landmarks=8)
     with pytest.raises(ValueError, match="max_landmarks"):
-        gym.make("RadialIBVS/ParkingGoal-v0", max_landmarks=16)
+        gym.make("RadialIBVS/ParkingGoal-v1", scenario="paper-lab", max_landmarks=8)
 
 
 def test_the_ibvs_parks_with_padded_observations() -> None:

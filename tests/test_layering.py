@@ -115,6 +115,39 @@ def test_the_import_graph_has_no_cycle() -> None:
             visit(module, [module])
 
 
+#: the env package's modules by job, lower first: a module may import only lower ones (and
+#: ``missed``, the missed-detection draws, and ``viewer``, the renderer, below them all)
+ENV_JOBS = (
+    ("missed", "viewer"),
+    ("rules", "observation", "vector_info"),
+    ("config",),
+    ("episodes",),
+    ("parking", "parking_vector"),
+    ("parking_goal", "parking_image"),
+)
+
+
+def test_the_env_modules_import_by_job_one_way() -> None:
+    rank = {name: k for k, names in enumerate(ENV_JOBS) for name in names}
+    found = {m.rsplit(".", 1)[1] for m in MODULES if m.startswith("radial_ibvs_gym.envs.")}
+    assert found == set(rank), f"place the env modules {sorted(found ^ set(rank))} in ENV_JOBS"
+    for name, k in rank.items():
+        for target in _imports(MODULES[f"radial_ibvs_gym.envs.{name}"]):
+            if target.startswith("radial_ibvs_gym.envs."):
+                other = target.rsplit(".", 1)[1]
+                assert rank[other] < k, f"envs.{name} imports envs.{other}"
+    # the rules and what is seen load plain numpy: no gymnasium, no simulator at import
+    for name in ("rules", "observation"):
+        tree = ast.parse(MODULES[f"radial_ibvs_gym.envs.{name}"].read_text())
+        top = {
+            (alias.name if isinstance(node, ast.Import) else str(node.module)).split(".")[0]
+            for node in tree.body
+            if isinstance(node, ast.Import | ast.ImportFrom)
+            for alias in node.names
+        }
+        assert not top & {"gymnasium", "pymunk", "cv2"}, (name, top)
+
+
 #: the rooms of ``agents``, lower first: a module may import only its own room and lower ones
 AGENT_ROOMS = ("utilities", "analytic", "learned", "policies", "experiments", "cli")
 #: the loose modules of ``agents``: the shared utilities, and on top of both kinds of policy,

@@ -139,6 +139,7 @@ def _resume_argv(source: Path, out: Path) -> list[str]:
     return [*argv, "--out", str(out), "--no-progress", "--env-kwarg", "task=1"]
 
 
+@pytest.mark.slow
 def test_resume_never_unpickles(trained: Path, tmp_path: Path) -> None:
     source = tmp_path / "source"
     shutil.copytree(trained, source)

@@ -60,8 +60,8 @@ def test_relabelled_goals_keep_the_penalties(steps):
     other_goal = achieved[crash]  # HER: the goal relabelled to what was achieved
     with_crash = env.compute_reward(achieved[crash], other_goal, infos[crash])
     without = env.compute_reward(achieved[crash], other_goal, {"collision": False, "lost": False})
-    assert with_crash == pytest.approx(without - env.weights["collision_penalty"])
-    assert without == env.weights["success_bonus"]  # the relabelled goal is reached exactly
+    assert with_crash == pytest.approx(without - env.config.weights["collision_penalty"])
+    assert without == env.config.weights["success_bonus"]  # the relabelled goal is reached exactly
 
 
 def test_her_calls_reach_the_penalties_through_the_vector_env(steps):
@@ -76,7 +76,7 @@ def test_her_calls_reach_the_penalties_through_the_vector_env(steps):
         "compute_reward", np.stack(achieved), np.stack(achieved), np.array(infos), indices=[0]
     )[0]
     crashes = np.array([i["collision"] for i in infos])
-    w = env.weights
+    w = env.config.weights
     lost = np.array([i["lost"] for i in infos])
     expected = w["success_bonus"] - w["collision_penalty"] - w["lost_penalty"] * lost[crashes]
     np.testing.assert_allclose(relabelled[crashes], expected)
@@ -125,16 +125,14 @@ def test_native_vector_env_equals_sync(slot_order: str):
         resetting = ta | tra
 
 
-def test_v0_warns_and_keeps_its_reward():
-    with pytest.warns(DeprecationWarning, match="ParkingGoal-v1"):
-        env = gym.make("RadialIBVS/ParkingGoal-v0", **KW)
+def test_v0_is_gone_and_v1_makes_without_warnings():
+    from gymnasium.error import Error
+
+    with pytest.raises(Error):
+        gym.make("RadialIBVS/ParkingGoal-v0", **KW)
     with warnings.catch_warnings():
         warnings.simplefilter("error")
-        gym.make("RadialIBVS/ParkingGoal-v1", **KW)  # the new version does not warn
-    env.reset(seed=0)
-    _, reward, *_, info = env.step(np.zeros(2, dtype=np.float32))
-    assert "image_distance" in info["reward_terms"]
-    assert reward == pytest.approx(sum(info["reward_terms"].values()))
+        gym.make("RadialIBVS/ParkingGoal-v1", **KW)
 
 
 @pytest.mark.parametrize(

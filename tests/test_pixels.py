@@ -268,6 +268,7 @@ def test_detected_points_are_the_ideal_ones_with_the_right_identities() -> None:
     assert worst < 0.5, worst  # degrees: every tracked beacon is the right landmark
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("seed", [0, 1])
 def test_the_papers_ibvs_parks_from_pixels_in_paper_lab(seed: int) -> None:
     from agents import make_policy

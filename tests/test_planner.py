@@ -274,7 +274,7 @@ def _teacher_env() -> gym.Env:
     )  # fmt: skip
 
 
-#: the docking-law teacher's arguments (configs/agents/dagger_planner_set_line.yaml)
+#: the docking-law teacher's arguments (research/configs/dagger_planner_set_line.yaml)
 LINE_TEACHER = {
     "goal_tolerance": 0.015, "waypoint_tolerance": 0.1, "hold_radius": 0.0, "drive_gate": 1.57,
     "reverse": False, "align_radius": 0.04, "approach": 0.5, "align_unblock": True,

@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 import torch
 from gymnasium import spaces
-from hypothesis import given, settings
+from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 from agents.learned.distill import goal_in_robot_frame
@@ -30,17 +30,67 @@ def _scene(seed: int, n: int, tx: float, ty: float, theta: float):
     return (torch.tensor(a[None]) for a in (now, goal, radius, np.ones(n)))
 
 
+def _distance_to_danger_circle(seed: int, n: int, tx: float, ty: float, theta: float) -> float:
+    """Relative distance of the robot to the circle through the landmarks (3 landmarks only).
+
+    With three landmarks, a robot on the circle through them (the "danger circle" of planar
+    three-point resection) has a one-parameter family of poses that explain its bearings: the
+    solver must refuse it. With more landmarks the scene is degenerate only if all of them and
+    the robot are concyclic, which the draw never gives (``inf`` is returned).
+    """
+    if n != 3:
+        return np.inf
+    rng = np.random.default_rng(seed)
+    radius, angle = rng.uniform(0.5, 5.0, n), rng.uniform(-np.pi, np.pi, n)
+    p = np.stack([radius * np.cos(angle), radius * np.sin(angle)], axis=-1)  # goal frame
+    centre_x, centre_y, k = np.linalg.solve(np.c_[2 * p, np.ones(3)], (p**2).sum(axis=1))
+    size = np.sqrt(k + centre_x**2 + centre_y**2)
+    c, s = np.cos(theta), np.sin(theta)
+    robot = -np.array([[c, -s], [s, c]]) @ [tx, ty]  # the robot's position in the goal frame
+    return abs(np.hypot(*(robot - [centre_x, centre_y])) - size) / size
+
+
 @settings(max_examples=60, deadline=None)
 @given(
     st.integers(0, 10_000), st.integers(3, 16), finite, finite, st.floats(-3.1, 3.1)
 )  # fmt: skip
+# a draw that once failed: the robot within 1e-5 (relative) of the three landmarks' circle
+@example(seed=3, n=3, tx=0.0, ty=-0.24100748384958592, theta=0.0)
 def test_the_pose_is_recovered_exactly_from_noise_free_bearings(seed, n, tx, ty, theta):
     now, goal, depth, mask = _scene(seed, n, tx, ty, theta)
     pose, valid = solve_goal_pose(now, goal, depth, mask)
+    if _distance_to_danger_circle(seed, n, tx, ty, theta) < 1e-3:
+        # near the danger circle the pose is (nearly) not unique: the solver may refuse it,
+        # but what it answers is exact
+        if not bool(valid[0]):
+            assert bool((pose == 0).all())
+            return
     assert bool(valid[0])
     np.testing.assert_allclose(pose[0, :2].numpy(), [tx, ty], atol=1e-6)
     error = np.arctan2(float(pose[0, 3]), float(pose[0, 2])) - theta
     assert abs(np.angle(np.exp(1j * error))) < 1e-6
+
+
+def test_a_robot_on_the_danger_circle_of_three_landmarks_is_refused():
+    # three landmarks on the unit circle and a robot on it too: every point of the circle's
+    # arc sees the pairs under the same angles (inscribed angles), so the pose is not unique
+    angle = np.array([0.3, 2.0, -2.2])
+    p = np.stack([np.cos(angle), np.sin(angle)], axis=-1) + np.array([2.0, 0.0])  # goal frame
+    robot = np.array([2.0 + np.cos(1.1), np.sin(1.1)])
+    q = p - robot  # the robot heads as the goal does (theta = 0)
+    now = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    depth = np.linalg.norm(p, axis=-1)
+    goal = p / depth[:, None]
+    args = (torch.tensor(a[None]) for a in (now, goal, depth, np.ones(3)))
+    pose, valid = solve_goal_pose(*args)
+    assert not bool(valid[0]) and bool((pose == 0).all())
+    # one step off the circle, the same landmarks fix the pose
+    q = p - robot * 0.8
+    now = q / np.linalg.norm(q, axis=-1, keepdims=True)
+    args = (torch.tensor(a[None]) for a in (now, goal, depth, np.ones(3)))
+    pose, valid = solve_goal_pose(*args)
+    assert bool(valid[0])
+    np.testing.assert_allclose(pose[0, :2].numpy(), -robot * 0.8, atol=1e-9)  # t = -r
 
 
 def test_every_random_scene_solves():
@@ -105,36 +155,6 @@ def test_the_pose_from_the_envs_images_is_the_true_one(scenario):
             obs, *_ = env.step(env.action_space.sample())
     env.close()
     assert solved >= 40
-
-
-def test_the_teacher_through_the_camera_is_handed_the_true_pose_by_an_ideal_one():
-    # benchmarks/teacher_through_camera.py hands its teacher the goal's pose composed with the
-    # solved relative pose: through an ideal camera, the robot's true pose
-    import importlib.util
-    from pathlib import Path
-
-    path = Path(__file__).parents[1] / "benchmarks" / "teacher_through_camera.py"
-    spec = importlib.util.spec_from_file_location("teacher_through_camera", path)
-    script = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(script)
-    env = gym.make(
-        "RadialIBVS/Parking-v0", scenario="random", physics="kinematic", obs_mode="features",
-        goal_depths=True, max_landmarks=16, slot_order="random", privileged=True,
-    )  # fmt: skip
-    checked = 0
-    for episode in range(4):
-        obs, _ = env.reset(seed=episode)
-        for _ in range(8):
-            solved = script.solved_robot_pose(obs)
-            if solved is not None:
-                checked += 1
-                truth = np.asarray(obs["robot_pose"], dtype=np.float64)
-                np.testing.assert_allclose(solved[:2], truth[:2], atol=1e-4)
-                turn = (solved[2] - truth[2] + np.pi) % (2 * np.pi) - np.pi
-                assert abs(turn) < 1e-4
-            obs, *_ = env.step(env.action_space.sample())
-    env.close()
-    assert checked >= 24
 
 
 def _obs(now, goal, depth, **past: torch.Tensor) -> dict[str, torch.Tensor]:

@@ -70,6 +70,7 @@ def test_bad_residual_entries_are_named(entry: dict, match: str) -> None:
         ResidualConfig.from_mapping(entry, "cfg.residual")
 
 
+@pytest.mark.slow
 def test_a_trained_residual_model_loads_as_a_residual_policy(tmp_path: Path) -> None:
     data = yaml.safe_load(CONFIG.read_text())
     section = data["RadialIBVS/Parking-v0"]

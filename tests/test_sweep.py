@@ -20,7 +20,7 @@ CONFIG = Path(__file__).resolve().parents[1] / "configs" / "agents" / "ppo_parki
 
 @pytest.fixture(scope="module")
 def tiny_config(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """ppo_parking.yaml cut down to a few hundred steps and two evaluations."""
+    """configs/agents/ppo_parking.yaml cut down to a few hundred steps and two evaluations."""
     data = yaml.safe_load(CONFIG.read_text())
     section = data["RadialIBVS/Parking-v0"]
     section.update(n_envs=4, n_steps=16, batch_size=32, n_epochs=1, n_timesteps=128)
@@ -49,6 +49,7 @@ def swept(tiny_config: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
     return out
 
 
+@pytest.mark.slow
 def test_each_seed_gets_a_train_model_directory_and_a_summary(
     swept: Path, tiny_config: Path
 ) -> None:
@@ -68,6 +69,7 @@ def test_each_seed_gets_a_train_model_directory_and_a_summary(
     assert "2 seeds" in (swept / "summary.md").read_text()
 
 
+@pytest.mark.slow
 def test_a_rerun_skips_done_seeds_and_retrains_a_half_done_one(
     swept: Path, tiny_config: Path, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -93,6 +95,7 @@ def test_bad_sweep_arguments_are_named(tiny_config: Path, tmp_path: Path) -> Non
         sweep.run_sweep(tiny_config, [0], tmp_path, backend="dask")
 
 
+@pytest.mark.slow
 def test_a_ray_sweep_trains_the_same_model_as_a_local_one(
     swept: Path, tiny_config: Path, tmp_path: Path
 ) -> None:
@@ -161,6 +164,7 @@ dagger:
 """
 
 
+@pytest.mark.slow
 def test_a_dagger_config_sweeps_as_distill_does(tmp_path: Path) -> None:
     """A config with a ``dagger:`` section trains each seed as ``radial-ibvs distill``; the
     summary takes each student's kept round."""

@@ -40,6 +40,7 @@ def test_shipped_config_is_valid_rl_zoo3_format() -> None:
     gym.make(config.env_id, **config.env_kwargs)  # the env arguments are valid
 
 
+@pytest.mark.slow
 def test_training_writes_a_loadable_model_directory(trained: Path) -> None:
     for name in ("policy.safetensors", "policy.json", "normalization.npz", "metadata.json"):
         assert (trained / name).is_file(), name
@@ -85,6 +86,7 @@ def test_learned_policy_matches_sb3_with_vecnormalize(trained: Path) -> None:
     np.testing.assert_allclose(ours, expected, atol=1e-5)
 
 
+@pytest.mark.slow
 def test_training_resumes_from_its_checkpoint(trained: Path, tmp_path: Path) -> None:
     config = load_train_config(CONFIG)
     config = type(config)(

@@ -8,7 +8,7 @@ import pytest
 
 import radial_ibvs_gym  # noqa: F401
 from radial_ibvs_gym.config import ConfigError
-from radial_ibvs_gym.envs.logic import ACTION_RULE
+from radial_ibvs_gym.envs.rules import ACTION_RULE
 
 
 def test_a_typo_of_an_env_argument_is_named_as_such_with_a_suggestion() -> None:
@@ -18,7 +18,7 @@ def test_a_typo_of_an_env_argument_is_named_as_such_with_a_suggestion() -> None:
     with pytest.raises(ValueError, match=r"did you mean 'depth_scale'"):
         gym.make("RadialIBVS/Parking-v0", depth_scal=1.3)
     with pytest.raises(ValueError, match=r"did you mean 'goal_depths'"):
-        gym.make("RadialIBVS/ParkingGoal-v0", goal_depth=True)
+        gym.make("RadialIBVS/ParkingGoal-v1", goal_depth=True)
 
 
 def test_scenario_names_and_missing_files_are_named_with_the_shipped_ones(tmp_path) -> None:

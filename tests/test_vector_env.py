@@ -69,7 +69,7 @@ def _run_both(env_id: str, n: int, steps: int, mode: str, tol: float, **kwargs: 
 
 @pytest.mark.parametrize("mode", ["next_step", "same_step"])
 @pytest.mark.parametrize("scenario", ["paper-sim", "paper-lab", "random", "random-obstacles"])
-@pytest.mark.parametrize("env_id", ["RadialIBVS/Parking-v0", "RadialIBVS/ParkingGoal-v0"])
+@pytest.mark.parametrize("env_id", ["RadialIBVS/Parking-v0", "RadialIBVS/ParkingGoal-v1"])
 def test_native_equals_sync_on_the_kinematic_backend(env_id: str, scenario: str, mode: str) -> None:
     # a short time limit: truncations exercise the autoreset path besides the terminations
     kwargs: dict[str, Any] = {"scenario": scenario, "physics": "kinematic", "max_episode_steps": 90}

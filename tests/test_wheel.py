@@ -23,6 +23,7 @@ def dist(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return out
 
 
+@pytest.mark.slow
 def test_the_sdist_and_wheel_pass_the_release_checks(dist: Path) -> None:
     files = sorted(dist.iterdir())
     assert {p.suffix for p in files} == {".gz", ".whl"}

@@ -3,28 +3,20 @@
 It sees what no image-based policy may: the true poses and the map (``gym.make(...,
 privileged=True, privileged_map=True)``: ``robot_pose``, ``goal_pose``, ``room``,
 ``obstacles``, ``landmarks``, ``landmark_range``). At the start of an episode it plans a
-collision-free path of straight segments:
-
-- the straight segment from start to goal, where that is free;
-- otherwise a path of OMPL (RRT-Connect in SE(2), then simplified), seeded from the episode
-  (the same episode, the same plan).
-
-A position is free when the robot can turn in place there: its footprint swept over every
-heading (a disc of half its diagonal, plus ``margin``) stays inside the room and clear of
-every obstacle, so the follower may turn at any waypoint; and it sees at least
-``min_visible`` landmarks there (the env's rule), each seen when its horizontal distance lies
-within the range the nominal camera sees it at (``landmark_range``). The follower drives the
-path turn-drive-turn: it turns in place towards the next waypoint (forwards or backwards,
-whichever needs less turning), drives straight with its heading held, and at the goal turns
-to the goal heading. Speeds follow the robot's limits with deceleration ramps, so it stops on
-each waypoint within millimetres.
+collision-free path of straight segments (:mod:`agents.analytic.path_planning`: the straight
+segment where free, else OMPL), keeping at least ``min_visible`` landmarks in view, and
+follows it turn-drive-turn: it turns in place towards the next waypoint (forwards or
+backwards, whichever needs less turning), drives straight with its heading held, and at the
+goal turns to the goal heading. Speeds follow the robot's limits with deceleration ramps, so
+it stops on each waypoint within millimetres. As a distillation teacher it takes near-goal
+rules (:class:`~agents.analytic.near_goal.NearGoalRules`) that keep its commands learnable
+from the image.
 
 OMPL is optional: ``pip install 'radial_ibvs_gym[planning]'``.
 """
 
 from __future__ import annotations
 
-import hashlib
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -39,160 +31,20 @@ from agents.analytic.docking import (
     ramp,
     turn_in_place,
 )
+from agents.analytic.near_goal import NearGoalRules
+from agents.analytic.path_planning import (
+    PLANNING_EXTRA,
+    Visibility,
+    import_ompl,
+    plan_path,
+    segment_free,
+)
 from agents.analytic.pose_oracle import PoseOracle
 from radial_ibvs_gym.physics import RobotConfig
 
-__all__ = ["PLANNING_EXTRA", "MapPlanner", "Plan", "plan_path", "segment_free"]
+__all__ = ["PLANNING_EXTRA", "MapPlanner", "NearGoalRules", "Plan", "plan_path", "segment_free"]
 
-#: what to install for the planner
-PLANNING_EXTRA = "pip install 'radial_ibvs_gym[planning]'"
 F64 = NDArray[np.float64]
-
-
-def _import_ompl() -> tuple[Any, Any, Any]:
-    try:
-        from ompl import base, geometric, util
-    except ImportError:
-        raise ValueError(
-            f"the planner needs OMPL, which is not installed: {PLANNING_EXTRA}"
-        ) from None
-    return base, geometric, util
-
-
-#: the landmarks the plan keeps in view: ``(landmarks (L, 3), ranges (L, 2), least count)``
-Visibility = tuple[F64, F64, int] | None
-
-
-def _free(points: F64, room: F64, obstacles: F64, radius: float, view: Visibility = None) -> bool:
-    """Whether discs of ``radius`` at ``points`` ``(P, 2)`` are inside the room and clear.
-
-    With ``view``, every point must also see at least that many landmarks: a landmark is seen
-    when its horizontal distance lies within its visible range (the omnidirectional camera
-    sees all around).
-    """
-    x, y = points[:, 0], points[:, 1]
-    if not ((x >= radius).all() and (y >= radius).all()):
-        return False
-    if not ((x <= room[0] - radius).all() and (y <= room[1] - radius).all()):
-        return False
-    for ox, oy, r in obstacles:
-        if r > 0 and (np.hypot(x - ox, y - oy) < r + radius).any():
-            return False
-    if view is not None:
-        landmarks, ranges, least = view
-        d = np.hypot(landmarks[None, :, 0] - x[:, None], landmarks[None, :, 1] - y[:, None])
-        seen = ((d > ranges[None, :, 0]) & (d < ranges[None, :, 1])).sum(axis=1)
-        if (seen < least).any():
-            return False
-    return True
-
-
-def segment_free(
-    a: F64, b: F64, room: F64, obstacles: F64, radius: float, view: Visibility = None
-) -> bool:
-    """Whether the disc of ``radius`` (metres) moves from ``a`` to ``b`` ``(2,)`` without a hit.
-
-    Checked every centimetre along the segment.
-    """
-    n = max(2, math.ceil(float(np.hypot(*(b - a))) / 0.01) + 1)
-    t = np.linspace(0.0, 1.0, n)[:, None]
-    return _free(a + t * (b - a), room, obstacles, radius, view)
-
-
-def plan_path(
-    start: F64,
-    goal: F64,
-    room: F64,
-    obstacles: F64,
-    radius: float,
-    *,
-    view: Visibility = None,
-    time_limit_s: float = 2.0,
-) -> F64 | None:
-    """Plan a collision-free path of straight segments for a disc of ``radius`` metres.
-
-    Parameters
-    ----------
-    start, goal
-        ``(2,)`` positions, metres.
-    room
-        ``(2,)`` width and depth of the room ``[0, w] x [0, d]``, metres.
-    obstacles
-        ``(K, 3)`` circles ``(x, y, radius)``, metres (radius 0: padding).
-    radius
-        The disc's radius, metres.
-    view
-        ``(landmarks (L, 3), ranges (L, 2), n)``: every point of the path must see at least
-        ``n`` landmarks (``None``: no visibility rule).
-    time_limit_s
-        OMPL's planning budget, seconds (used only when the straight segment is blocked).
-
-    Returns
-    -------
-    numpy.ndarray or None
-        ``(M, 2)`` waypoints from ``start`` to ``goal`` (both included), or ``None`` if none
-        was found (or the start or goal is not free).
-    """
-    start, goal = np.asarray(start, dtype=np.float64), np.asarray(goal, dtype=np.float64)
-    if segment_free(start, goal, room, obstacles, radius, view):
-        return np.stack([start, goal])
-    ends = np.stack([start, goal])
-    if not _free(ends, room, obstacles, radius, view):
-        return None
-    path = _ompl_path(start, goal, room, obstacles, radius, 0.0, view, time_limit_s)
-    if path is None:  # OMPL checks states every 5 mm: its path may graze; plan with a margin
-        path = _ompl_path(start, goal, room, obstacles, radius, 0.01, view, time_limit_s)
-    return path
-
-
-def _ompl_path(
-    start: F64,
-    goal: F64,
-    room: F64,
-    obstacles: F64,
-    radius: float,
-    clearance: float,
-    view: Visibility,
-    time_limit_s: float,
-) -> F64 | None:
-    """Plan with OMPL for a disc of ``radius + clearance``; check each segment at ``radius``."""
-    ob, og, ou = _import_ompl()
-    ou.setLogLevel(ou.LogLevel.LOG_NONE)
-    # the episode's own seed: the same map, start and goal give the same plan in any process
-    data = np.concatenate([start, goal, room, obstacles.ravel()]).tobytes()
-    ou.RNG.setSeed(int.from_bytes(hashlib.sha256(data).digest()[:4], "little") % 2**31 or 1)
-    space = ob.SE2StateSpace()
-    bounds = ob.RealVectorBounds(2)
-    bounds.setLow(0, 0.0)
-    bounds.setHigh(0, float(room[0]))
-    bounds.setLow(1, 0.0)
-    bounds.setHigh(1, float(room[1]))
-    space.setBounds(bounds)
-    setup = og.SimpleSetup(space)
-    setup.setStateValidityChecker(
-        lambda s: _free(np.array([[s.getX(), s.getY()]]), room, obstacles, radius + clearance, view)
-    )
-    setup.getSpaceInformation().setStateValidityCheckingResolution(0.005)
-    begin, end = space.allocState(), space.allocState()
-    begin.setX(float(start[0]))
-    begin.setY(float(start[1]))
-    begin.setYaw(0.0)
-    end.setX(float(goal[0]))
-    end.setY(float(goal[1]))
-    end.setYaw(0.0)
-    setup.setStartAndGoalStates(begin, end)
-    setup.setPlanner(og.RRTConnect(setup.getSpaceInformation()))
-    if not setup.solve(time_limit_s) or not setup.haveExactSolutionPath():
-        return None
-    setup.simplifySolution()
-    states = setup.getSolutionPath().getStates()
-    path = np.array([[s.getX(), s.getY()] for s in states], dtype=np.float64)
-    path[0], path[-1] = start, goal
-    segments_ok = all(
-        segment_free(path[k], path[k + 1], room, obstacles, radius, view)
-        for k in range(len(path) - 1)
-    )
-    return path if segments_ok else None
 
 
 @dataclass
@@ -229,88 +81,18 @@ class MapPlanner:
     min_visible
         Every point of the plan keeps at least this many landmarks in view (the env's rule:
         fewer end the episode as lost).
-    drive_gate
-        ``0`` (the default): turn in place until heading within ``heading_tolerance``, then
-        drive. ``> 0``: drive and turn together, the speed faded linearly from full at zero
-        heading error to zero at ``drive_gate`` radians, so the command is a continuous
-        function of the pose (what a student can learn: :mod:`agents.learned.distill`).
-    reverse
-        ``True`` (the default): drive forwards or backwards, whichever needs less turning.
-        ``False``: forwards only. A teacher (:mod:`agents.learned.distill`) uses ``False``:
-        with reversing, the turn's sign flips where the waypoint is abeam (90 deg), exactly
-        where a student that drove past the goal ends up, and a student that averages the
-        two labels there stands still.
-    final_radius
-        ``0`` (the default): the follower drives the whole path. ``> 0``: within this distance
-        of the goal, on the path's last segment, the paper's smooth control law on the true
-        poses (the ``oracle``, :class:`~agents.analytic.pose_oracle.PoseOracle`) takes over,
-        metres. A teacher (:mod:`agents.learned.distill`) uses it: near the goal the follower's
-        turn-creep-turn depends on millimetres, which an image-only student cannot see, while
-        the smooth law is a continuous function of the pose.
-    hold_radius
-        Within this distance of a waypoint the follower holds its heading and only drives
-        along it (the bearing is sensitive to millimetres there), metres. A teacher labelling
-        states off its own path (:mod:`agents.learned.distill`) uses 0: from a state beside
-        the goal it turns towards it instead of stopping there.
-    approach, approach_limit
-        ``0`` (the default): on the path's last segment the follower aims at the goal.
-        ``> 0``: it aims at a point behind the goal on the line of the goal heading,
-        ``min(approach * d, approach_limit)`` metres behind it at a distance ``d``, so the
-        path bends to arrive along the goal heading and the aim still closes on the goal (a
-        continuous function of the pose, with no state). A teacher
-        (:mod:`agents.learned.distill`) uses it: a student that arrives with the goal heading
-        has little turning left at the goal, where the image resolves the least.
-    align_radius
-        ``0`` (the default): off. ``> goal_tolerance``: near the goal, on the path's last
-        segment, the command blends from the follower's (turn towards the goal, drive) into
-        the final alignment (turn towards the goal *heading*, drive along the robot's own
-        heading to the goal's foot on it), wholly the alignment within ``goal_tolerance``,
-        linearly in the distance up to ``align_radius``, metres. The command is a continuous
-        function of the pose there (the alignment uses no bearing to a goal millimetres
-        away), but where the goal lies dead behind the robot beyond ``goal_tolerance`` (the
-        forwards-only drive's turn flips sign there, while the alignment backs up), and the
-        alignment never increases the distance to the goal. A teacher
-        (:mod:`agents.learned.distill`) uses it instead of ``final_radius``: the smooth law's
-        turn near the goal flips sign over centimetres, which an image-only student averages
-        into a stall. Exclusive with ``final_radius``.
-    align_unblock
-        ``False`` (the default): the blend of ``align_radius`` as above. ``True``: where the
-        two weighted commands cancel (the blend's larger component is under half of the
-        largest component of their magnitudes added), the follower's command alone. A blend
-        of two commands has zeros away from the goal, where the robot stands still for good:
-        started 2.5 and 4 cm from the goal with any heading, in 64 validation rooms each, the
-        blend timed out in 14 and 17, this rule in 2 and 0 (``approach=0.5``;
-        ``benchmarks/teacher_check.py --near``). The command is discontinuous where the rule
-        switches.
-    line_radius, line_cone, line_lateral_gain, line_speed
-        ``0`` (the default): off. ``> 0``: within ``line_radius`` metres of the goal, on the
-        path's last segment, wherever the robot lies behind the goal within ``line_cone``
-        radians of the goal heading line, or within ``goal_tolerance`` of that line, the
-        line-following docking law of :mod:`agents.analytic.docking` instead of the follower
-        and ``align_radius``'s blend: lateral gain ``line_lateral_gain``, rad/m^2, at most
-        ``line_speed`` m/s (keep its steering gain, ``2 sqrt(line_lateral_gain) *
-        line_speed``, below ``1 / control_dt``: 4.5/s by default). Its turn near the goal is
-        mostly the heading error, which an image resolves, where the follower's is the
-        bearing to a point centimetres away. A teacher (:mod:`agents.learned.distill`) uses
-        it with ``approach``, which brings the robot into the cone.
-    turn_radius, turn_gain
-        ``0`` (the default): off. ``> 0``: within ``turn_radius`` metres of the goal, on the
-        path's last segment, the robot stands and turns in place to the goal heading
-        (:func:`~agents.analytic.docking.turn_in_place`, proportional gain ``turn_gain``, 1/s,
-        below ``1 / control_dt``), before any other rule. Set it under the env's success
-        radius: the episode then succeeds once the heading is within tolerance. A teacher
-        (:mod:`agents.learned.distill`) uses it: its label there is a function of the heading
-        error alone, and a larger gain than ``gain`` makes the last degrees' turn labels
-        larger than an image-only student's fitting error.
-    turn_floor
-        The least turn rate of ``turn_radius``'s turn in place while the heading is off,
-        rad/s (default 0: none; :func:`~agents.analytic.docking.turn_in_place`'s ``floor``).
-        A teacher's proportional turn fades below what its student fits in the last degrees.
+    **near_goal
+        The near-goal rules (:class:`~agents.analytic.near_goal.NearGoalRules`: ``hold_radius``,
+        ``drive_gate``, ``reverse``, ``final_radius``, ``align_radius``, ``approach``,
+        ``approach_limit``, ``align_unblock``, ``line_radius``, ``line_cone``,
+        ``line_lateral_gain``, ``line_speed``, ``turn_radius``, ``turn_gain``, ``turn_floor``),
+        each off by default; held as ``planner.rules``.
 
     Raises
     ------
     ValueError
-        If OMPL is not installed (the message names the extra to install).
+        If OMPL is not installed (the message names the extra to install), or for a bad or
+        unknown argument.
     """
 
     def __init__(
@@ -323,23 +105,9 @@ class MapPlanner:
         heading_tolerance: float = math.radians(2.0),
         time_limit_s: float = 2.0,
         min_visible: int = 3,
-        hold_radius: float = 0.03,
-        drive_gate: float = 0.0,
-        reverse: bool = True,
-        final_radius: float = 0.0,
-        align_radius: float = 0.0,
-        approach: float = 0.0,
-        approach_limit: float = 0.5,
-        align_unblock: bool = False,
-        line_radius: float = 0.0,
-        line_cone: float = 0.3,
-        line_lateral_gain: float = 900.0,
-        line_speed: float = 0.15,
-        turn_radius: float = 0.0,
-        turn_gain: float = 6.0,
-        turn_floor: float = 0.0,
+        **near_goal: Any,
     ) -> None:
-        _import_ompl()
+        import_ompl()
         if isinstance(min_visible, bool) or not isinstance(min_visible, int) or min_visible < 0:
             raise ValueError(f"min_visible must be an integer >= 0, got {min_visible!r}")
         self.min_visible = min_visible
@@ -351,89 +119,23 @@ class MapPlanner:
             "goal_tolerance": goal_tolerance,
             "heading_tolerance": heading_tolerance,
             "time_limit_s": time_limit_s,
-            "hold_radius": hold_radius,
-            "drive_gate": drive_gate,
-            "final_radius": final_radius,
-            "align_radius": align_radius,
-            "approach": approach,
-            "approach_limit": approach_limit,
-            "line_radius": line_radius,
-            "line_cone": line_cone,
-            "line_lateral_gain": line_lateral_gain,
-            "line_speed": line_speed,
-            "turn_radius": turn_radius,
-            "turn_gain": turn_gain,
-            "turn_floor": turn_floor,
         }
         for name, value in values.items():
-            zero_ok = name in (
-                "margin",
-                "hold_radius",
-                "drive_gate",
-                "final_radius",
-                "align_radius",
-                "approach",
-                "line_radius",
-                "line_cone",
-                "line_lateral_gain",
-                "turn_radius",
-                "turn_floor",
-            )
-            if not (math.isfinite(value) and value >= 0 and (value > 0 or zero_ok)):
+            if not (math.isfinite(value) and value >= 0 and (value > 0 or name == "margin")):
                 raise ValueError(f"{name} must be finite and positive, got {value!r}")
         self.margin, self.gain = float(margin), float(gain)
         self.waypoint_tolerance = float(waypoint_tolerance)
         self.goal_tolerance = float(goal_tolerance)
         self.heading_tolerance = float(heading_tolerance)
         self.time_limit_s = float(time_limit_s)
-        self.hold_radius = float(hold_radius)
-        self.drive_gate = float(drive_gate)
-        self.reverse = bool(reverse)
-        self.final_radius = float(final_radius)
-        self.align_radius = float(align_radius)
-        self.approach, self.approach_limit = float(approach), float(approach_limit)
-        if not isinstance(align_unblock, bool):
-            raise ValueError(f"align_unblock must be true or false, got {align_unblock!r}")
-        self.align_unblock = align_unblock
-        self.line_radius, self.line_lateral_gain = float(line_radius), float(line_lateral_gain)
-        self.line_cone, self.line_speed = float(line_cone), float(line_speed)
-        self.turn_radius, self.turn_gain = float(turn_radius), float(turn_gain)
-        self.turn_floor = float(turn_floor)
-        if self.line_cone >= math.pi / 2:
-            raise ValueError(f"line_cone must be below pi/2 radians, got {line_cone!r}")
-        if self.turn_radius > 0 and self.final_radius > 0:
-            raise ValueError(
-                f"turn_radius ({turn_radius!r}) and final_radius ({final_radius!r}) both "
-                "take over near the goal: set one of them to 0"
-            )
-        if self.line_radius > 0 and self.final_radius > 0:
-            raise ValueError(
-                f"line_radius ({line_radius!r}) and final_radius ({final_radius!r}) both "
-                "take over near the goal: set one of them to 0"
-            )
-        if self.turn_floor > 0 and self.turn_radius <= 0:
-            raise ValueError(
-                f"turn_floor ({turn_floor!r}) acts on turn_radius's turn in place: set "
-                "turn_radius > 0"
-            )
-        if align_unblock and self.align_radius <= 0:
-            raise ValueError("align_unblock acts on align_radius's blend: set align_radius > 0")
-        if self.approach >= 1.0:
-            raise ValueError(
-                f"approach must be below 1 (the aim behind the goal must close on it), "
-                f"got {approach!r}"
-            )
-        if self.align_radius > 0 and self.final_radius > 0:
-            raise ValueError(
-                f"align_radius ({align_radius!r}) and final_radius ({final_radius!r}) both "
-                "take over near the goal: set one of them to 0"
-            )
-        if 0 < self.align_radius <= self.goal_tolerance:
+        #: the near-goal rules (a teacher's; all off by default)
+        self.rules = rules = NearGoalRules.from_kwargs(near_goal)
+        if 0 < rules.align_radius <= self.goal_tolerance:
             raise ValueError(
                 f"align_radius must exceed goal_tolerance ({goal_tolerance!r}), "
-                f"got {align_radius!r}"
+                f"got {rules.align_radius!r}"
             )
-        self._oracle = PoseOracle(robot=self.robot) if self.final_radius > 0 else None
+        self._oracle = PoseOracle(robot=self.robot) if rules.final_radius > 0 else None
         self.radius = 0.5 * math.hypot(self.robot.length, self.robot.width) + self.margin
 
     env_kwargs: dict[str, bool] = {"privileged": True, "privileged_map": True}  # noqa: RUF012
@@ -499,13 +201,14 @@ class MapPlanner:
             if starts[i] or plans[i] is None:
                 plans[i] = self.make_plan(row)
             pose = np.asarray(row["robot_pose"], dtype=np.float64)
-            if self._oracle is not None and self._near_goal(plans[i], pose, self.final_radius):
+            rules = self.rules
+            if self._oracle is not None and self._near_goal(plans[i], pose, rules.final_radius):
                 actions[i] = self._oracle.predict(row)[0]
-            elif self.turn_radius > 0 and self._near_goal(plans[i], pose, self.turn_radius):
+            elif rules.turn_radius > 0 and self._near_goal(plans[i], pose, rules.turn_radius):
                 actions[i] = self._turn(plans[i], pose)
             elif (docking := self._dock(plans[i], pose)) is not None:
                 actions[i] = docking
-            elif self.align_radius > 0 and self._near_goal(plans[i], pose, self.align_radius):
+            elif rules.align_radius > 0 and self._near_goal(plans[i], pose, rules.align_radius):
                 actions[i] = self._align(plans[i], pose)
             else:
                 actions[i] = self._follow(plans[i], pose)
@@ -522,10 +225,10 @@ class MapPlanner:
 
         ``None`` where the law does not apply: off, not near the goal, or outside its cone.
         """
-        if self.line_radius <= 0 or not self._near_goal(plan, pose, self.line_radius):
+        if self.rules.line_radius <= 0 or not self._near_goal(plan, pose, self.rules.line_radius):
             return None
         x_g, y_g, phi = goal_frame(pose, self._goal_pose(plan))
-        if not in_docking_cone(x_g, y_g, self.line_cone, self.goal_tolerance):
+        if not in_docking_cone(x_g, y_g, self.rules.line_cone, self.goal_tolerance):
             return None
         robot = self.robot
         v, omega = line_docking(
@@ -533,8 +236,8 @@ class MapPlanner:
             y_g,
             phi,
             gain=self.gain,
-            lateral_gain=self.line_lateral_gain,
-            max_speed=min(robot.max_linear_speed, self.line_speed),
+            lateral_gain=self.rules.line_lateral_gain,
+            max_speed=min(robot.max_linear_speed, self.rules.line_speed),
             max_accel=robot.max_linear_accel,
             max_turn=robot.max_angular_speed,
             max_turn_accel=robot.max_angular_accel,
@@ -547,10 +250,10 @@ class MapPlanner:
         robot = self.robot
         omega = turn_in_place(
             phi,
-            gain=self.turn_gain,
+            gain=self.rules.turn_gain,
             max_turn=robot.max_angular_speed,
             max_turn_accel=robot.max_angular_accel,
-            floor=self.turn_floor,
+            floor=self.rules.turn_floor,
         )
         return np.array([0.0, omega / robot.max_angular_speed])
 
@@ -574,14 +277,15 @@ class MapPlanner:
             self._ramp(abs(heading), w_max, robot.max_angular_accel), heading
         )
         v_align = math.copysign(self._ramp(abs(along), v_max, robot.max_linear_accel), along)
-        weight = (self.align_radius - distance) / (self.align_radius - self.goal_tolerance)
+        radius = self.rules.align_radius
+        weight = (radius - distance) / (radius - self.goal_tolerance)
         weight = min(max(weight, 0.0), 1.0)
         align = np.array([v_align / v_max, omega_align / w_max])
         if weight >= 1.0:
             return align
         drive = self._drive(*self._approach(dx, dy, plan.goal_yaw), yaw)
         blend = (1.0 - weight) * drive + weight * align
-        if self.align_unblock:  # the two commands cancel: a stall point of the blend
+        if self.rules.align_unblock:  # the two commands cancel: a stall point of the blend
             added = np.abs((1.0 - weight) * drive) + np.abs(weight * align)
             if np.abs(blend).max() < 0.5 * added.max():
                 return drive
@@ -615,9 +319,9 @@ class MapPlanner:
 
     def _approach(self, dx: float, dy: float, goal_yaw: float) -> tuple[float, float]:
         """Return the aim on the last segment: the goal, or a point behind it (``approach``)."""
-        if self.approach <= 0:
+        if self.rules.approach <= 0:
             return dx, dy
-        back = min(self.approach * math.hypot(dx, dy), self.approach_limit)
+        back = min(self.rules.approach * math.hypot(dx, dy), self.rules.approach_limit)
         return dx - back * math.cos(goal_yaw), dy - back * math.sin(goal_yaw)
 
     def _drive(self, dx: float, dy: float, yaw: float) -> np.ndarray:
@@ -627,16 +331,16 @@ class MapPlanner:
         distance = math.hypot(dx, dy)
         bearing = math.atan2(dy, dx)
         forward, backward = _wrap(bearing - yaw), _wrap(bearing + math.pi - yaw)
-        backwards = self.reverse and abs(backward) < abs(forward)
+        backwards = self.rules.reverse and abs(backward) < abs(forward)
         direction, error = (-1.0, backward) if backwards else (1.0, forward)
         along = distance * math.cos(error)
-        if distance < self.hold_radius:  # close: the bearing is sensitive to mm; hold heading
+        if distance < self.rules.hold_radius:  # close: the bearing is sensitive to mm; hold heading
             speed = self._ramp(abs(along), v_max, robot.max_linear_accel)
             v = direction * math.copysign(speed, along)
             return np.array([v / v_max, 0.0])
         omega = math.copysign(self._ramp(abs(error), w_max, robot.max_angular_accel), error)
-        if self.drive_gate > 0:  # turn and drive together, slower the more the heading is off
-            fade = max(0.0, 1.0 - abs(error) / self.drive_gate)
+        if self.rules.drive_gate > 0:  # turn and drive together, slower the more the heading is off
+            fade = max(0.0, 1.0 - abs(error) / self.rules.drive_gate)
             v = direction * fade * self._ramp(max(along, 0.0), v_max, robot.max_linear_accel)
             return np.array([v / v_max, omega / w_max])
         if abs(error) > self.heading_tolerance:  # turn in place first

@@ -1,7 +1,7 @@
 """The ``radial-ibvs`` command line: a short dispatcher, one module per command.
 
 Each command module (:mod:`.demo`, :mod:`.reproduce`, :mod:`.evaluate`, :mod:`.train`,
-:mod:`.distill`, :mod:`.collect`, :mod:`.benchmark`, :mod:`.sweep`, :mod:`.render`,
+:mod:`.distill`, :mod:`.collect`, :mod:`.benchmark`, :mod:`.report`, :mod:`.sweep`, :mod:`.render`,
 :mod:`.image`) has ``add_parser(sub)`` and ``run(args)``; its heavy imports happen inside
 ``run``, so ``radial-ibvs --help`` is instant.
 """
@@ -20,6 +20,7 @@ from agents.cli import (
     evaluate,
     image,
     render,
+    report,
     reproduce,
     sweep,
     train,
@@ -36,6 +37,7 @@ COMMANDS = {
     "distill": distill,
     "collect": collect,
     "benchmark": benchmark,
+    "report": report,
     "sweep": sweep,
     "render": render,
     "image": image,

@@ -199,7 +199,7 @@ def imperfect_cameras(
 
     ``"ideal"`` names the same rooms through the ideal camera; ``labels=None``: every variant,
     ``"ideal"`` last. For diagnostics that run their own policies through the suite's cameras
-    (``benchmarks/teacher_through_camera.py``).
+    (``research/diagnostics/teacher_through_camera.py``).
 
     Raises
     ------

@@ -52,10 +52,22 @@ class SeedRun:
 
 def is_dagger_config(path: Path) -> bool:
     """Whether the YAML file at ``path`` is a DAgger config (it has a ``dagger:`` section)."""
-    from radial_ibvs_gym.config import read_yaml
+    from radial_ibvs_gym.config import read_yaml_with_base
+
+    data = read_yaml_with_base(path)
+    return isinstance(data, dict) and "dagger" in data
+
+
+def _config_text(path: Path) -> str:
+    """Return the config's text for a worker: a ``base:`` overlay resolved into one file."""
+    import yaml
+
+    from radial_ibvs_gym.config import read_yaml, read_yaml_with_base
 
     data = read_yaml(path)
-    return isinstance(data, dict) and "dagger" in data
+    if isinstance(data, dict) and "base" in data:
+        return str(yaml.safe_dump(read_yaml_with_base(path), sort_keys=False))
+    return path.read_text()
 
 
 def _train_seed(run: SeedRun) -> bytes:
@@ -187,7 +199,7 @@ def run_sweep(
     todo = [s for s in seeds if s not in done]
     here = backend == "local" and workers == 1  # one seed at a time, in this process
     runs = [
-        SeedRun(config_path.read_text(), str(config_path), env_id, algo, s, total_timesteps,
+        SeedRun(_config_text(config_path), str(config_path), env_id, algo, s, total_timesteps,
                 f"{command} (seed {s})".strip(), progress=here and progress)
         for s in todo
     ]  # fmt: skip

@@ -16,6 +16,9 @@ gymnasium 0.29 and stable-baselines3 2.2 (this project needs gymnasium >= 1.0), 
 written here, over SB3's policy and torch. Observations are normalised with statistics fixed
 after the first round, stored as the model's ``normalization.npz``; the result is an SB3 PPO
 model directory that :func:`agents.load` runs like the others, with no analytic policy in it.
+About 490 lines: the DAgger loop and the student's fitting, which share the round's state; the
+settings are in :mod:`agents.learned.distill_config`, the provenance in
+:mod:`agents.learned.provenance`.
 """
 
 from __future__ import annotations
@@ -448,20 +451,16 @@ def _vec_normalize(
 def _metadata(
     config: DaggerConfig, seed: int, rows: list[dict[str, float]], command: str | None
 ) -> dict[str, Any]:
-    import sys
-
-    from agents.learned.training import _git_revision, _jsonable
+    from agents.learned.provenance import jsonable, provenance
 
     return {
         "trained_by": "dagger",
         "teacher": config.teacher,
-        "teacher_kwargs": _jsonable(config.teacher_kwargs),
+        "teacher_kwargs": jsonable(config.teacher_kwargs),
         **({"history": config.history.as_dict()} if config.history else {}),
         "seed": seed,
         "total_timesteps": int(rows[-1]["env_steps"]) if rows else 0,
-        "command": command or " ".join(sys.argv),
-        "config": _jsonable(config.source),
-        "git_revision": _git_revision(),
+        **provenance(command, config.source),
         "wall_clock_s": rows[-1]["wall_s"] if rows else 0.0,
         "learning_curve": [
             {"timesteps": r["env_steps"], "success_rate": r["success_rate"]} for r in rows

@@ -11,7 +11,7 @@ from typing import Any
 from agents.analytic import make_analytic
 from agents.learned.extractors import ERROR_KEYS
 from agents.learned.history import HistoryConfig
-from radial_ibvs_gym.config import read_yaml
+from radial_ibvs_gym.config import read_yaml_with_base
 
 __all__ = ["ACTIVATIONS", "EXTRACTORS", "PRIVILEGED", "DaggerConfig", "load_dagger_config"]
 
@@ -145,7 +145,7 @@ def load_dagger_config(path: Path | str) -> DaggerConfig:
     ValueError
         For an unknown key or a bad value (the message names the key and the value).
     """
-    data = read_yaml(path)
+    data = read_yaml_with_base(path)  # a research overlay: base: and the changes
     section = data.get("dagger") if isinstance(data, Mapping) else None
     if not isinstance(section, Mapping):
         raise ValueError(f"{path}: expected a 'dagger:' mapping")

@@ -15,17 +15,19 @@ Each row is divided by ``d*`` (the constraint's error for a bearing error ``delt
 ``d* delta`` near the goal, so every row then weighs the same in bearing). Three landmarks
 or more fix ``z`` up to scale: it is the eigenvector of the rows' Gram matrix with the least
 eigenvalue, scaled to ``cos^2 + sin^2 = 1`` and signed so that the landmarks lie in front of
-their bearings. This is a perception layer, as the features ``c_ij`` are: it turns what the
-image shows into a pose; what to do from there is the network's to learn.
+their bearings. The solution is not unique, and the solver says so (``valid`` false), when
+the least eigenvalue is not clearly alone: fewer than three landmarks, all of them on one line
+through both camera centres, or, with exactly three, a robot on the circle through them (the
+"danger circle" of planar three-point resection, where every point of the arc sees the
+landmarks under the same angles). This is a perception layer, as the features ``c_ij`` are:
+it turns what the image shows into a pose; what to do from there is the network's to learn.
 """
 
 from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
-
-__all__ = ["POSE_FEATURES", "goal_pose_features", "solve_goal_pose", "solve_one"]
+__all__ = ["POSE_FEATURES", "goal_pose_features", "solve_goal_pose"]
 
 #: the number of features :func:`goal_pose_features` returns per sample
 POSE_FEATURES = 13
@@ -80,44 +82,6 @@ def solve_goal_pose(now: Any, goal: Any, depth: Any, mask: Any) -> tuple[Any, An
         valid = (w.sum(dim=-1) >= 3) & (scale > 1e-6) & gap & torch.isfinite(z).all(dim=-1)
         z = torch.where(valid[..., None], z, torch.zeros_like(z))
         return torch.stack([z[..., 2], z[..., 3], z[..., 0], z[..., 1]], dim=-1), valid
-
-
-def solve_one(
-    points: Any, visible: Any, goal_points: Any, goal_visible: Any, depths: Any
-) -> tuple[np.ndarray, bool]:
-    """:func:`solve_goal_pose` for one image pair, numpy in and out (diagnostics, benchmarks).
-
-    Parameters
-    ----------
-    points, goal_points
-        ``(N, 2)`` (or flattened ``(2N,)``) current and goal image points.
-    visible, goal_visible
-        ``(N,)`` whether each landmark is seen now and in the goal image (truthy values; an
-        observation's ``goal_visible`` is ``|x_n*| > 0.5``, hidden slots being zeros).
-    depths
-        ``(N,)`` goal depths ``d*``, metres, in the same order as the points.
-
-    Returns
-    -------
-    pose : numpy.ndarray
-        ``(4,)`` float64 ``(t_x, t_y, cos theta, sin theta)`` (zeros where not valid).
-    valid : bool
-    """
-    import torch
-
-    now = np.asarray(points, dtype=np.float64).reshape(-1, 2)
-    goal = np.asarray(goal_points, dtype=np.float64).reshape(-1, 2)
-    n = len(now)
-    seen = (np.asarray(visible, dtype=np.float64).reshape(-1)[:n] > 0.5) & (
-        np.asarray(goal_visible, dtype=np.float64).reshape(-1)[:n] > 0.5
-    )
-    pose, valid = solve_goal_pose(
-        torch.from_numpy(now)[None],
-        torch.from_numpy(goal[:n])[None],
-        torch.from_numpy(np.asarray(depths, dtype=np.float64).reshape(-1)[:n].copy())[None],
-        torch.from_numpy(seen.astype(np.float64))[None],
-    )
-    return pose[0].numpy(), bool(valid[0])
 
 
 def goal_pose_features(now: Any, goal: Any, depth: Any, mask: Any, eps: float = 1e-3) -> Any:

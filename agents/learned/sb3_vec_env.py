@@ -93,8 +93,15 @@ class NativeVecEnv(VecEnv):
         self.env.close()
 
     def get_attr(self, attr_name: str, indices: Any = None) -> list[Any]:
-        """Read an attribute of the vector env's template scalar env, once per index."""
-        value = getattr(self.env.template, attr_name)
+        """Read an attribute of the batched env, or of its config, once per index.
+
+        The batched env has one configuration for all its envs (``env.config``): an argument
+        such as ``obs_mode`` is read there.
+        """
+        if hasattr(self.env, attr_name):
+            value = getattr(self.env, attr_name)
+        else:
+            value = getattr(self.env.config, attr_name)
         return [value for _ in self._get_indices(indices)]
 
     def set_attr(self, attr_name: str, value: Any, indices: Any = None) -> None:
@@ -115,7 +122,7 @@ class NativeVecEnv(VecEnv):
         """Call a method of the batched env (``compute_reward`` for HER), once per index."""
         if method_name == "compute_reward":
             return [self.env.compute_reward(*method_args, **method_kwargs)]
-        method = getattr(self.env.template, method_name)
+        method = getattr(self.env, method_name)
         return [method(*method_args, **method_kwargs) for _ in self._get_indices(indices)]
 
     def env_is_wrapped(self, wrapper_class: type, indices: Any = None) -> list[bool]:
@@ -158,7 +165,7 @@ def make_vec_env(
     Parameters
     ----------
     env_id
-        ``"RadialIBVS/Parking-v0"`` or ``"RadialIBVS/ParkingGoal-v0"``.
+        ``"RadialIBVS/Parking-v0"`` or ``"RadialIBVS/ParkingGoal-v1"``.
     n_envs
         Number of envs (>= 1).
     seed

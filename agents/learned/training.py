@@ -6,17 +6,17 @@ a progress bar, resuming from a checkpoint; the result is a model directory that
 :func:`agents.learned.load` reads without unpickling anything (``policy.safetensors``,
 ``policy.json``, ``normalization.npz``, ``metadata.json``), with ``learning_curve.png``, the
 best model in ``best/``, and SB3's own ``model.zip`` for SB3 users and for resuming.
+
+About 500 lines: :func:`train` and the callbacks, resuming and export it needs; the model files
+are in :mod:`agents.learned.model_files`, the provenance in :mod:`agents.learned.provenance`.
 """
 
 from __future__ import annotations
 
 import importlib.util
 import json
-import platform
 import re
 import shutil
-import subprocess
-import sys
 import time
 import zipfile
 from dataclasses import dataclass
@@ -44,6 +44,7 @@ from agents.learned.model_files import (
     save_normalization,
     save_policy,
 )
+from agents.learned.provenance import jsonable, provenance, versions
 from agents.learned.residual import ResidualVecEnv
 from agents.learned.zoo_config import TrainConfig
 from agents.plotting import save_figure
@@ -211,33 +212,6 @@ def _restore_normalization(venv: VecNormalize, path: Path, default_count: float)
         venv.ret_rms.count = count
 
 
-def _git_revision() -> str:
-    """Return the checkout's commit, with ``+dirty`` when tracked files differ from it."""
-    here = Path(__file__).resolve().parent
-
-    def git(*args: str) -> str:
-        return subprocess.run(
-            ["git", *args], capture_output=True, text=True, check=True, cwd=here
-        ).stdout.strip()
-
-    try:
-        revision = git("rev-parse", "HEAD")
-        dirty = git("status", "--porcelain", "--untracked-files=no")
-    except (OSError, subprocess.CalledProcessError):
-        return "unknown"
-    return f"{revision}+dirty" if dirty else revision
-
-
-def _jsonable(value: Any) -> Any:
-    if isinstance(value, dict):
-        return {str(k): _jsonable(v) for k, v in value.items()}
-    if isinstance(value, list | tuple):
-        return [_jsonable(v) for v in value]
-    if isinstance(value, str | int | float | bool) or value is None:
-        return value
-    return repr(value)
-
-
 def _make_venv(env_id: str, n_envs: int, seed: int, env_kwargs: dict[str, Any]) -> Any:
     """Make the native batched ``VecEnv`` where the id has one, else SB3's ``DummyVecEnv``."""
     from agents.learned.sb3_vec_env import make_vec_env
@@ -386,7 +360,7 @@ def train(
     metadata = {
         "algo": algo,
         "env_id": config.env_id,
-        "env_kwargs": _jsonable(config.env_kwargs),
+        "env_kwargs": jsonable(config.env_kwargs),
         "seed": seed,
         **({"residual": config.residual.as_dict()} if config.residual else {}),
         **({"curriculum": config.curriculum.as_dict()} if config.curriculum else {}),
@@ -394,15 +368,8 @@ def train(
         **({"init_from": str(init_from)} if init_from is not None else {}),
         **({"fine_tune": config.fine_tune.as_dict()} if init and config.fine_tune else {}),
         "total_timesteps": int(model.num_timesteps),
-        "command": command or " ".join(sys.argv),
-        "config": _jsonable(config.source),
-        "git_revision": _git_revision(),
-        "versions": {
-            "python": platform.python_version(),
-            "stable_baselines3": __import__("stable_baselines3").__version__,
-            "torch": __import__("torch").__version__,
-            "gymnasium": __import__("gymnasium").__version__,
-        },
+        **provenance(command, config.source),
+        "versions": versions(),
         "wall_clock_s": round(wall, 1),
         "env_steps_per_s": round(steps / wall, 1),
         "learning_curve": curve,

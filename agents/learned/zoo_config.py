@@ -18,7 +18,7 @@ from typing import Any
 from agents.learned.curriculum import CurriculumConfig
 from agents.learned.fine_tune import FineTuneConfig
 from agents.learned.residual import ResidualConfig
-from radial_ibvs_gym.config import read_yaml
+from radial_ibvs_gym.config import read_yaml_with_base
 
 __all__ = ["TrainConfig", "load_train_config", "parse_kwargs_string"]
 
@@ -199,7 +199,7 @@ def load_train_config(path: Path | str, env_id: str | None = None) -> TrainConfi
     path = Path(path)
     if not path.is_file():
         raise ValueError(f"config file {str(path)!r} not found")
-    data = read_yaml(path)  # bounded: no aliases, limited size and depth
+    data = read_yaml_with_base(path)  # bounded: no aliases, limited size and depth; base: overlays
     if not isinstance(data, Mapping):
         raise ValueError(f"{path}: expected a mapping of env ids to hyper-parameters")
     meta = dict(data.get("radial_ibvs_gym") or {})

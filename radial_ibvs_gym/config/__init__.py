@@ -12,7 +12,9 @@ from radial_ibvs_gym.config.loader import (
     did_you_mean,
     from_mapping,
     load_yaml,
+    merge_overlay,
     read_yaml,
+    read_yaml_with_base,
     short,
 )
 
@@ -23,6 +25,8 @@ __all__ = [
     "did_you_mean",
     "from_mapping",
     "load_yaml",
+    "merge_overlay",
     "read_yaml",
+    "read_yaml_with_base",
     "short",
 ]

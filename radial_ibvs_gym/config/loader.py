@@ -11,7 +11,7 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, TypeVar
 
-from radial_ibvs_gym.limits import MAX_CONFIG_BYTES, MAX_CONFIG_DEPTH
+from radial_ibvs_gym.limits import MAX_CONFIG_BASES, MAX_CONFIG_BYTES, MAX_CONFIG_DEPTH
 
 __all__ = [
     "ConfigError",
@@ -20,7 +20,9 @@ __all__ = [
     "did_you_mean",
     "from_mapping",
     "load_yaml",
+    "merge_overlay",
     "read_yaml",
+    "read_yaml_with_base",
     "short",
 ]
 
@@ -115,6 +117,75 @@ def read_yaml(source: str | Path, where: str | None = None) -> Any:
     finally:
         if loader is not None:
             loader.dispose()
+
+
+def merge_overlay(base: Mapping[str, Any], overlay: Mapping[str, Any]) -> dict[str, Any]:
+    """Return ``base`` with ``overlay`` laid on top, mapping by mapping.
+
+    A mapping in both is merged key by key (recursively); any other value of ``overlay``
+    replaces ``base``'s; a ``null`` (``None``) in ``overlay`` removes the key, so that the
+    default applies. Neither argument is changed.
+    """
+    out = dict(base)
+    for key, value in overlay.items():
+        if value is None:
+            out.pop(key, None)
+        elif isinstance(value, Mapping) and isinstance(out.get(key), Mapping):
+            out[key] = merge_overlay(out[key], value)
+        else:
+            out[key] = value
+    return out
+
+
+def read_yaml_with_base(path: str | Path) -> Any:
+    """Read a YAML config that may be an overlay of another one (a top-level ``base:`` key).
+
+    ``base: other.yaml`` names the config this one varies, by a path relative to this file's
+    folder; the result is the base (itself read the same way) with this file laid on top by
+    :func:`merge_overlay`, without the ``base`` key. A config without ``base:`` is read as
+    :func:`read_yaml` reads it. At most :data:`~radial_ibvs_gym.limits.MAX_CONFIG_BASES` files
+    are chained; a file that names itself, directly or not, is refused.
+
+    Raises
+    ------
+    ConfigError
+        For a bad ``base`` value, a missing base file, a cycle, too long a chain, or any error
+        of :func:`read_yaml`; the message names the file and the value.
+    """
+    chain: list[Path] = []
+    layers: list[Mapping[str, Any]] = []
+    current = Path(path)
+    while True:
+        resolved = current.resolve()
+        if resolved in chain:
+            names = " -> ".join(str(p) for p in [*chain, resolved])
+            raise ConfigError(f"{path}: its base: chain comes back to a file it holds: {names}")
+        if len(chain) >= MAX_CONFIG_BASES:
+            raise ConfigError(
+                f"{path}: more than MAX_CONFIG_BASES = {MAX_CONFIG_BASES} chained base: files"
+            )
+        chain.append(resolved)
+        data = read_yaml(current)
+        if not isinstance(data, Mapping) or "base" not in data:
+            if len(layers) == 0:
+                return data
+            if not isinstance(data, Mapping):
+                raise ConfigError(f"{current}: a base: file must be a mapping, got {short(data)}")
+            break
+        base = data["base"]
+        if not isinstance(base, str) or not base.endswith((".yaml", ".yml")):
+            raise ConfigError(
+                f"{current}: base must be the path of a .yaml file, got {short(base)}"
+            )
+        layers.append({k: v for k, v in data.items() if k != "base"})
+        following = current.parent / base
+        if not following.is_file():
+            raise ConfigError(f"{current}: base {base!r}: no such file ({following})")
+        current = following
+    merged: dict[str, Any] = dict(data)
+    for layer in reversed(layers):
+        merged = merge_overlay(merged, layer)
+    return merged
 
 
 @functools.cache

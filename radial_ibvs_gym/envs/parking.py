@@ -1,107 +1,33 @@
-"""``RadialIBVS/Parking-v0``: park a differential-drive robot seen only through a goal image."""
+"""``RadialIBVS/Parking-v0``: park a differential-drive robot seen only through a goal image.
+
+The env's jobs live in their own modules: its arguments in :mod:`~radial_ibvs_gym.envs.config`,
+drawing an episode and its goal image in :mod:`~radial_ibvs_gym.envs.episodes`, what the robot
+sees in :mod:`~radial_ibvs_gym.envs.observation`, the task's rules (errors, reward, episode end,
+``info``) in :mod:`~radial_ibvs_gym.envs.rules`. This module steps, resets and renders.
+Its length (about 470 lines) is mostly the class docstring: Gymnasium's layout of an env's
+documentation (spaces, rewards, episode end, the arguments' table), which the site renders.
+"""
 
 from __future__ import annotations
 
-import dataclasses
-import functools
-import inspect
 import math
-from collections.abc import Mapping
-from dataclasses import dataclass, field
 from pathlib import Path
-from typing import Any, Literal
+from typing import Any
 
 import gymnasium as gym
 import numpy as np
-from gymnasium import spaces
 
-from radial_ibvs_gym.camera import Imperfections
-from radial_ibvs_gym.config import did_you_mean, short
-from radial_ibvs_gym.envs import logic
-from radial_ibvs_gym.envs.missed import MissedDetections, MissedState
-from radial_ibvs_gym.features import c_ij, pair_indices
-from radial_ibvs_gym.geometry import world_to_camera, wrap_angle_scalar
-from radial_ibvs_gym.physics import BACKENDS, RobotConfig, World, make_world, wheels_to_twist
-from radial_ibvs_gym.physics.base import footprint_collides, start_pose_error
-from radial_ibvs_gym.scenarios import Episode, Scenario, ScenarioConfig, load_scenario
+from radial_ibvs_gym.envs import observation as seen
+from radial_ibvs_gym.envs import rules
+from radial_ibvs_gym.envs.config import ParkingConfig
+from radial_ibvs_gym.envs.episodes import EpisodeSetup, EpisodeSource
+from radial_ibvs_gym.geometry import world_to_camera
+from radial_ibvs_gym.physics import RobotConfig, World, make_world, wheels_to_twist
+from radial_ibvs_gym.scenarios import Episode, Scenario
 from radial_ibvs_gym.vision import ImageQuality
 from radial_ibvs_gym.vision.pipeline import DetectedPoints
 
 __all__ = ["EpisodeSetup", "ParkingEnv"]
-
-OBS_MODES = ("points", "features")
-
-
-@dataclass
-class EpisodeSetup:
-    """What an env keeps of a drawn episode (the scalar and the vector envs alike).
-
-    Attributes
-    ----------
-    episode
-        The drawn episode (room, landmarks, start, goal; the goal's yaw wrapped).
-    goal_depths
-        ``(N,)`` goal depths ``d*`` given to the policy, metres (times ``depth_scale``).
-    landmarks_c
-        ``(N,)`` the landmarks on the floor plane as complex numbers ``x + i y``, metres.
-    radius_bounds
-        Per camera (``"current"``, ``"goal"``): the interval of horizontal distances the mirror
-        sees at each landmark's height, ``(lo, hi)`` each ``(N,)``; ``None`` for a camera with
-        imperfections (projected exactly instead).
-    goal_points, goal_visible
-        ``(N, 2)`` the goal image (zeros where hidden) and ``(N,)`` its visibility.
-    c_goal
-        ``(M,)`` the goal image's ``c*_ij`` (``obs_mode="features"``; else ``None``).
-    cameras
-        The episode's cameras, ``"current"`` and ``"goal"``: the scenario's, or built with
-        the imperfections drawn for this episode.
-    imperfections
-        The imperfections drawn for this episode (``None``: the scenario draws none).
-    map
-        The privileged map of the episode (:meth:`ParkingEnv.map_observation`), computed
-        once at reset when ``privileged_map=True``; else ``None``.
-    missed
-        The episode's missed detections (``missed_detections``), or ``None``.
-    """
-
-    episode: Episode
-    goal_depths: np.ndarray
-    landmarks_c: np.ndarray
-    radius_bounds: dict[str, tuple[np.ndarray, np.ndarray] | None]
-    goal_points: np.ndarray
-    goal_visible: np.ndarray
-    c_goal: np.ndarray | None = None
-    cameras: dict[str, Any] = field(default_factory=dict)
-    imperfections: Imperfections | None = None
-    map: dict[str, np.ndarray] | None = None
-    slot_order: np.ndarray | None = None
-    missed: MissedState | None = None
-
-
-def _check_env_arguments(overrides: dict[str, Any], env: type) -> None:
-    """Refuse keywords that are neither env arguments nor scenario keys, with a did-you-mean.
-
-    Checked before the scenario is loaded, so a typo of an env argument (``phisics=``) is
-    reported as such, with the env's own arguments listed beside the scenario's keys.
-    """
-    scenario_keys = sorted(f.name for f in dataclasses.fields(ScenarioConfig))
-    unknown = sorted(set(overrides) - set(scenario_keys))
-    if not unknown:
-        return
-    arguments = sorted(
-        {
-            name
-            for cls in env.__mro__
-            if "__init__" in vars(cls) and cls.__module__.startswith("radial_ibvs_gym")
-            for name, p in inspect.signature(vars(cls)["__init__"]).parameters.items()
-            if name != "self" and p.kind is not inspect.Parameter.VAR_KEYWORD
-        }
-    )
-    hint = did_you_mean(unknown[0], [*arguments, *scenario_keys])
-    raise ValueError(
-        f"unknown argument(s) {short(unknown)}{hint}; the env's arguments: {arguments}; "
-        f"scenario keys (overrides): {scenario_keys}"
-    )
 
 
 class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
@@ -228,179 +154,93 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     obs, info = env.reset(seed=0)
     ```
 
+    The arguments are validated once, into a frozen
+    :class:`~radial_ibvs_gym.envs.config.ParkingConfig` (``env.config``) that the native vector
+    env shares; an unknown argument is an error that lists the valid ones.
+
     ## Version History
     - v0: initial version.
     """
 
     metadata: dict[str, Any] = {"render_modes": ["human", "rgb_array"], "render_fps": 10}  # noqa: RUF012
 
+    #: the arguments a subclass takes itself (named in the unknown-argument message)
+    _own_arguments: tuple[str, ...] = ()
+
     def __init__(
-        self,
-        scenario: str | Path = "paper-sim",
-        task: int | None = None,
-        physics: Literal["pymunk", "kinematic"] = "pymunk",
-        physics_dt: float = 0.01,
-        obs_mode: Literal["points", "features"] = "points",
-        action_type: Literal["twist", "wheels"] = "twist",
-        privileged: bool = False,
-        goal_depths: bool = False,
-        privileged_map: bool = False,
-        measurement: Literal["ideal", "detected"] = "ideal",
-        image_size: int = 256,
-        beacon_radius: float = 0.08,
-        image_noise: float = 0.0,
-        image_blur: float = 0.0,
-        exposure: float = 1.0,
-        control_dt: float = 0.1,
-        success_position_m: float = 0.02,
-        success_heading_deg: float = 2.0,
-        min_visible: int = 3,
-        terminate_on_collision: bool = True,
-        max_landmarks: int | None = None,
-        slot_order: Literal["fixed", "random"] = "fixed",
-        missed_detections: Mapping[str, Any] | MissedDetections | None = None,
-        start_reach: float = 1.0,
-        w_position: float = 1.0,
-        w_heading: float = 0.3,
-        w_precision: float = 0.0,
-        time_penalty: float = 0.01,
-        collision_penalty: float = 1.0,
-        lost_penalty: float = 1.0,
-        success_bonus: float = 10.0,
-        render_mode: str | None = None,
-        **scenario_overrides: Any,
+        self, scenario: str | Path = "paper-sim", *, render_mode: str | None = None, **kwargs: Any
     ) -> None:
-        if physics not in BACKENDS:
-            raise ValueError(f"unknown physics {physics!r}; valid: {list(BACKENDS)}")
-        if obs_mode not in OBS_MODES:
-            raise ValueError(f"unknown obs_mode {obs_mode!r}; valid: {list(OBS_MODES)}")
-        if measurement not in ("ideal", "detected"):
-            raise ValueError(f"unknown measurement {measurement!r}; valid: ['ideal', 'detected']")
-        if action_type not in ("twist", "wheels"):
-            raise ValueError(f"unknown action_type {action_type!r}; valid: ['twist', 'wheels']")
-        for name, value in (
-            ("control_dt", control_dt),
-            ("physics_dt", physics_dt),
-            ("success_position_m", success_position_m),
-            ("success_heading_deg", success_heading_deg),
-        ):
-            if not (math.isfinite(value) and value > 0):
-                raise ValueError(f"{name} must be finite and positive, got {value!r}")
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(
                 f"render_mode {render_mode!r} is not supported; valid: "
                 f"{self.metadata['render_modes']}"
             )
-        _check_env_arguments(scenario_overrides, type(self))
-        self.scenario: Scenario = load_scenario(scenario, **scenario_overrides)
-        if task is not None and not (0 <= task < self.scenario.n_tasks):
-            raise ValueError(f"task must be in 0..{self.scenario.n_tasks - 1}, got {task!r}")
-        n = self.scenario.n_landmarks
-        if not (3 <= min_visible <= n):
-            raise ValueError(f"min_visible must be in 3..{n}, got {min_visible!r}")
-        self.task = task
-        self.start_reach = start_reach
-        self.physics = physics
-        self.obs_mode = obs_mode
-        self.action_type = action_type
-        self.privileged = bool(privileged)
-        self.privileged_map = bool(privileged_map)
-        self.goal_depths_in_obs = bool(goal_depths)
-        self.control_dt = float(control_dt)
-        self.physics_dt = float(physics_dt)
-        if (
-            physics == "pymunk"
-            and abs(round(control_dt / physics_dt) * physics_dt - control_dt) > 1e-9
-        ):
-            raise ValueError(
-                f"control_dt={control_dt!r} s must be a multiple of physics_dt={physics_dt!r} s"
-            )
-        self.success_position_m = float(success_position_m)
-        self.success_heading_rad = math.radians(success_heading_deg)
-        self.min_visible = int(min_visible)
-        self.terminate_on_collision = bool(terminate_on_collision)
-        self.weights = {
-            "w_position": w_position,
-            "w_heading": w_heading,
-            "w_precision": w_precision,
-            "time_penalty": time_penalty,
-            "collision_penalty": collision_penalty,
-            "lost_penalty": lost_penalty,
-            "success_bonus": success_bonus,
-        }
-        for name, weight in self.weights.items():
-            if not (math.isfinite(weight) and weight >= 0):
-                raise ValueError(f"{name} must be finite and >= 0, got {weight!r}")
+        #: the validated arguments (shared with the native vector env)
+        self.config = config = ParkingConfig.from_kwargs(
+            scenario, extra=type(self)._own_arguments, **kwargs
+        )
         self.render_mode = render_mode
-        self.measurement = measurement
-        self.missed_detections = MissedDetections.from_value(missed_detections)
-        if self.missed_detections is not None and measurement == "detected":
-            raise ValueError("missed_detections is for measurement='ideal' (detected: real misses)")
         self._detector: DetectedPoints | None = None
-        if measurement == "detected":
-            specs = (self.scenario.config.camera, self.scenario.config.goal_camera)
-            if any(s is not None and s.imperfection_ranges is not None for s in specs):
-                raise ValueError(
-                    "measurement='detected' does not take camera imperfection_ranges; give "
-                    "fixed imperfections, or use measurement='ideal'"
-                )
+        if config.measurement == "detected":
             self._detector = DetectedPoints(
-                self.scenario.camera,
-                self.scenario.goal_camera,
-                self.scenario.config.camera_height,
-                image_size=image_size,
-                beacon_radius=beacon_radius,
-                quality=ImageQuality(image_noise, image_blur, exposure),
+                config.scenario.camera,
+                config.scenario.goal_camera,
+                config.scenario.config.camera_height,
+                image_size=config.image_size,
+                beacon_radius=config.beacon_radius,
+                quality=ImageQuality(config.image_noise, config.image_blur, config.exposure),
             )
-        self.robot = RobotConfig.from_dict(dict(self.scenario.config.robot))
-        if action_type == "twist":
-            self._scale = (self.robot.max_linear_speed, self.robot.max_angular_speed)
-        else:  # wheel angular speeds, full scale = the wheel speed of the top linear speed
-            self._scale = (self.robot.max_linear_speed / self.robot.wheel_radius,) * 2
-        self._pairs = pair_indices(n)
-        #: fixed landmark slots (``max_landmarks``), or None: the observation has N landmarks
-        self.slots = None if max_landmarks is None else logic.Slots(n, max_landmarks)
-        if slot_order not in ("fixed", "random"):
-            raise ValueError(f"unknown slot_order {slot_order!r}; valid: ['fixed', 'random']")
-        if slot_order == "random" and self.slots is None:
-            raise ValueError("slot_order='random' needs max_landmarks (the slots to draw from)")
-        self.slot_order = slot_order
-        k = n if max_landmarks is None else int(max_landmarks)  # landmark entries observed
-
-        self.action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
-        obs_spaces: dict[str, spaces.Space[Any]] = {
-            "points": spaces.Box(-1.0, 1.0, (2 * k,), np.float32),
-            "goal_points": spaces.Box(-1.0, 1.0, (2 * k,), np.float32),
-            "visible": spaces.Box(0.0, 1.0, (k,), np.float32),
-        }
-        if obs_mode == "features":
-            m = k * (k - 1) // 2
-            obs_spaces["c_error"] = spaces.Box(-2.0, 2.0, (m,), np.float32)
-            obs_spaces["alpha_m_error"] = spaces.Box(-np.pi, np.pi, (1,), np.float32)
-        depth_space = spaces.Box(0.0, 1e3, (k,), np.float32)  # metres
-        if goal_depths:
-            obs_spaces["goal_depths"] = depth_space
-        if privileged:
-            bound = np.array([1e3, 1e3, np.pi])  # metres, metres, radians (yaw wrapped)
-            pose_space = spaces.Box(-bound, bound, (3,), np.float64)
-            obs_spaces["robot_pose"] = pose_space
-            obs_spaces["goal_pose"] = pose_space
-            obs_spaces["depths"] = depth_space
-        if self.privileged_map:
-            obs_spaces["room"] = spaces.Box(0.0, 1e3, (2,), np.float64)
-            obs_spaces["obstacles"] = spaces.Box(-1e3, 1e3, (self.map_obstacles, 3), np.float64)
-            obs_spaces["landmarks"] = spaces.Box(-1e3, 1e3, (k, 3), np.float64)
-            obs_spaces["landmark_range"] = spaces.Box(0.0, 1e3, (k, 2), np.float64)
-        if self.slots is not None:
-            obs_spaces["landmark_mask"] = spaces.Box(0.0, 1.0, (k,), np.float32)
-        self.observation_space = spaces.Dict(obs_spaces)  # type: ignore[assignment]
-
+        self.episodes = EpisodeSource(config, self._detector)
+        self.action_space = gym.spaces.Box(-1.0, 1.0, (2,), np.float32)
+        self.observation_space = seen.observation_space(config)  # type: ignore[assignment]
         self._renderer: Any = None
         self.world: World | None = None
         self.episode: Episode | None = None
         self._setup: EpisodeSetup | None = None
-        self._bounds_cache: dict[str, tuple[np.ndarray, np.ndarray]] = {}
         self._prev_errors: tuple[Any, Any] = (0.0, 0.0)
+
+    # --- the config's values that users and wrappers read ---------------------------------------
+    @property
+    def scenario(self) -> Scenario:
+        """The loaded scenario (with the overrides applied)."""
+        return self.config.scenario
+
+    @property
+    def robot(self) -> RobotConfig:
+        """The scenario's robot."""
+        return self.config.robot
+
+    @property
+    def slots(self) -> seen.Slots | None:
+        """The landmark slots (``max_landmarks``), or ``None``."""
+        return self.config.slots
+
+    @property
+    def task(self) -> int | None:
+        """The task index, or ``None`` (drawn per episode)."""
+        return self.config.task
+
+    @property
+    def physics(self) -> str:
+        """The physics backend, ``"pymunk"`` or ``"kinematic"``."""
+        return self.config.physics
+
+    @property
+    def control_dt(self) -> float:
+        """The control period, seconds."""
+        return self.config.control_dt
+
+    @property
+    def start_reach(self) -> float:
+        """The fraction of the start distribution drawn from (:attr:`EpisodeSource.start_reach`).
+
+        Setting it takes effect at the next reset (a reverse curriculum raises it to 1).
+        """
+        return self.episodes.start_reach
+
+    @start_reach.setter
+    def start_reach(self, value: float) -> None:
+        self.episodes.start_reach = value
 
     # --- step ----------------------------------------------------------------------------------
     def step(
@@ -409,30 +249,31 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         """Apply one action for ``control_dt`` seconds (see the class docstring)."""
         if self.world is None or self._setup is None:
             raise RuntimeError("call reset() before step()")
+        config = self.config
         a = np.asarray(action, dtype=np.float64).reshape(-1)
         if a.shape != (2,):
-            raise ValueError(f"action must be {logic.ACTION_RULE}, got {action!r}")
+            raise ValueError(f"action must be {rules.ACTION_RULE}, got {action!r}")
         a0, a1 = a.tolist()
         if not (math.isfinite(a0) and math.isfinite(a1)):
-            raise ValueError(f"action must be {logic.ACTION_RULE}, got {action!r}")
-        s0, s1 = self._scale
+            raise ValueError(f"action must be {rules.ACTION_RULE}, got {action!r}")
+        s0, s1 = config.scale
         command = (min(max(a0, -1.0), 1.0) * s0, min(max(a1, -1.0), 1.0) * s1)
-        if self.action_type == "wheels":
-            command = tuple(wheels_to_twist(command, self.robot).tolist())
-        result = self.world.step(command, self.control_dt)
+        if config.action_type == "wheels":
+            command = tuple(wheels_to_twist(command, config.robot).tolist())
+        result = self.world.step(command, config.control_dt)
         self._observe(result.pose)
-        now = logic.pose_errors(result.pose.tolist(), self._goal)
-        success, lost, terminated = logic.episode_end(
+        now = rules.pose_errors(result.pose.tolist(), self._goal)
+        success, lost, terminated = rules.episode_end(
             *now,
             self._n_visible,
             result.collision,
-            success_position_m=self.success_position_m,
-            success_heading_rad=self.success_heading_rad,
-            min_visible=self.min_visible,
-            terminate_on_collision=self.terminate_on_collision,
+            success_position_m=config.success_position_m,
+            success_heading_rad=config.success_heading_rad,
+            min_visible=config.min_visible,
+            terminate_on_collision=config.terminate_on_collision,
         )
-        terms = logic.reward_terms(
-            self._prev_errors, now, result.collision, lost, success, self.weights
+        terms = rules.reward_terms(
+            self._prev_errors, now, result.collision, lost, success, config.weights
         )
         self._prev_errors = now
         info = self._info(result.pose, now, bool(success), result.collision, bool(lost))
@@ -449,27 +290,29 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     ) -> tuple[dict[str, np.ndarray], dict[str, Any]]:
         """Draw an episode from the scenario; ``options`` may fix ``start``, ``goal``, ``task``."""
         super().reset(seed=seed)
+        config = self.config
         options = dict(options or {})
         unknown = sorted(set(options) - {"start", "goal", "task"})
         if unknown:
             raise ValueError(f"unknown reset option(s) {unknown}; valid: ['goal', 'start', 'task']")
-        setup = self.setup_episode(self.np_random, options.get("task", self.task), options)
+        task = options.get("task", config.task)
+        setup = self.episodes.setup_episode(self.np_random, task, options)
         episode = setup.episode
         self._setup, self.episode = setup, episode
         self._goal = tuple(episode.goal.tolist())
         room = (float(episode.room[0]), float(episode.room[1]))
-        extra = {"physics_dt": self.physics_dt} if self.physics == "pymunk" else {}
+        extra = {"physics_dt": config.physics_dt} if config.physics == "pymunk" else {}
         obstacles = tuple(tuple(o) for o in episode.obstacles.tolist())
-        self.world = make_world(self.physics, self.robot, room, obstacles=obstacles, **extra)
+        self.world = make_world(config.physics, config.robot, room, obstacles=obstacles, **extra)
         self.world.reset(episode.start)
-        if self.obs_mode == "features":
+        if config.obs_mode == "features":
             self._weights_cache: dict[bytes, np.ndarray | None] = {}
         if self._detector is not None:
             self._points, self._visible = self._detector.initial()
             self._n_visible = int(np.count_nonzero(self._visible))
         else:
             self._observe(episode.start)
-        self._prev_errors = logic.pose_errors(episode.start.tolist(), self._goal)
+        self._prev_errors = rules.pose_errors(episode.start.tolist(), self._goal)
         self._renderer = None
         self._trail: list[np.ndarray] = [episode.start[:2].copy()]
         if self.render_mode == "human":
@@ -477,148 +320,11 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         info = self._info(episode.start, self._prev_errors, False, False)
         return self._obs(), info
 
-    @property
-    def start_reach(self) -> float:
-        """The fraction of the start distribution drawn from, in ``(0, 1]`` (a curriculum).
-
-        At ``1`` the scenario draws starts as it says. Below, each start lies within
-        ``start_reach`` times the scenario's start-goal distance bounds of its goal, with a
-        heading within ``start_reach * pi`` radians of the goal's
-        (:meth:`radial_ibvs_gym.scenarios.Scenario.sample`). Setting it takes effect at the
-        next reset: a reverse curriculum raises it from near 0 to 1 over training. Only for
-        scenarios whose starts are ``anywhere`` (``random``, ``random-obstacles``).
-        """
-        return self._start_reach
-
-    @start_reach.setter
-    def start_reach(self, value: float) -> None:
-        tasks = None if self.task is None else [self.task]
-        self._start_reach = self.scenario.check_reach(value, tasks, "start_reach")
-
     def setup_episode(
         self, rng: np.random.Generator, task: int | None, options: dict[str, Any]
     ) -> EpisodeSetup:
-        """Draw an episode with ``rng`` and take its goal image (the vector env uses it too).
-
-        Parameters
-        ----------
-        rng
-            The env's generator.
-        task
-            Task index, or ``None`` to draw one.
-        options
-            Reset options: ``start`` and ``goal`` poses fix those of the episode.
-
-        Raises
-        ------
-        ValueError
-            For a bad option, or a goal image with fewer than ``min_visible`` landmarks
-            (detected points: in 10 draws).
-        """
-        # detected points: a goal image can show fewer beacons than the scenario guaranteed
-        # (too small, cut by the rim); draw again, a bounded number of times
-        attempts = 10 if self._detector is not None and "goal" not in options else 1
-        for attempt in range(attempts):
-            episode = self._draw_episode(rng, task, options)
-            cameras, drawn = self._episode_cameras(rng)
-            landmarks = episode.landmarks
-            heights = landmarks[:, 2] - self.scenario.config.camera_height
-            bounds: dict[str, tuple[np.ndarray, np.ndarray] | None] = {}
-            for which, camera in cameras.items():
-                bounds[which] = self._radius_bounds(which, camera, heights)
-            setup = EpisodeSetup(
-                episode=episode,
-                goal_depths=self.scenario.goal_depths(episode),
-                landmarks_c=landmarks[:, 0] + 1j * landmarks[:, 1],
-                radius_bounds=bounds,
-                goal_points=np.zeros((len(landmarks), 2)),
-                goal_visible=np.zeros(len(landmarks), dtype=bool),
-                cameras=cameras,
-                imperfections=drawn,
-            )
-            if self._detector is not None:
-                setup.goal_points, setup.goal_visible = self._detector.reset(
-                    episode.room, episode.landmarks, episode.start, episode.goal, rng
-                )
-            else:
-                setup.goal_points, setup.goal_visible = self.image(setup, episode.goal, "goal", rng)
-            if setup.goal_visible.sum() >= self.min_visible:
-                break
-            if attempt == attempts - 1:
-                seen = "detected" if self._detector is not None else "visible"
-                raise ValueError(
-                    f"only {int(setup.goal_visible.sum())} landmarks are {seen} at the goal "
-                    f"{episode.goal.tolist()}; at least {self.min_visible} are needed"
-                    + (f" (in {attempts} draws)" if attempts > 1 else "")
-                )
-        if self.obs_mode == "features":
-            setup.c_goal = c_ij(logic.unit_or_dummy(setup.goal_points, setup.goal_visible))
-        if self.privileged_map:  # fixed for the episode: computed once, copied at each step
-            setup.map = self.map_observation(setup.episode)
-        if self.missed_detections is not None:
-            setup.missed = self.missed_detections.start(rng, len(setup.episode.landmarks))
-        if self.slot_order == "random":  # the last draw: the episode is the same as fixed's
-            assert self.slots is not None
-            setup.slot_order = self.slots.draw_order(rng)
-        return setup
-
-    def _episode_cameras(
-        self, rng: np.random.Generator
-    ) -> tuple[dict[str, Any], Imperfections | None]:
-        """Return the episode's cameras, imperfections drawn where the scenario gives ranges.
-
-        The goal image is taken by the same real camera (the same calibration errors; its
-        own pixel noise), unless the scenario names a goal camera of its own.
-        """
-        config = self.scenario.config
-        cameras = {"current": self.scenario.camera, "goal": self.scenario.goal_camera}
-        ranges = config.camera.imperfection_ranges
-        drawn = None
-        if ranges is not None:
-            drawn = ranges.draw(rng, config.camera.imperfections)
-            cameras["current"] = config.camera.build(drawn)
-            if config.goal_camera is None:
-                cameras["goal"] = cameras["current"]
-        goal_spec = config.goal_camera
-        if goal_spec is not None and goal_spec.imperfection_ranges is not None:
-            goal_drawn = goal_spec.imperfection_ranges.draw(rng, goal_spec.imperfections)
-            cameras["goal"] = goal_spec.build(goal_drawn)
-        return cameras, drawn
-
-    def _radius_bounds(
-        self, which: str, camera: Any, heights: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray] | None:
-        """Return the camera's visible distance interval per landmark height (None: imperfect).
-
-        Cached per camera for scenarios with fixed landmarks (the same heights every episode).
-        """
-        if camera.imperfections.any:
-            return None
-        if self.scenario.config.random_landmarks is not None:
-            return camera.visible_radius_bounds(heights)
-        if which not in self._bounds_cache:
-            self._bounds_cache[which] = camera.visible_radius_bounds(heights)
-        return self._bounds_cache[which]
-
-    def _draw_episode(
-        self, rng: np.random.Generator, task: int | None, options: dict[str, Any]
-    ) -> Episode:
-        """Draw an episode from the scenario, with the start and goal ``options`` applied."""
-        episode = self.scenario.sample(rng, task=task, reach=self._start_reach)
-        for key in ("start", "goal"):
-            if key in options:
-                pose = np.asarray(options[key], dtype=np.float64)
-                if pose.shape != (3,) or not np.isfinite(pose).all():
-                    raise ValueError(f"options[{key!r}] must be (x, y, yaw), got {options[key]!r}")
-                # the same check in every backend, before any physics sees the pose
-                if footprint_collides(pose, self.robot, episode.room, episode.obstacles):
-                    raise ValueError(f"options[{key!r}]: {start_pose_error(pose, key)}")
-                episode = (
-                    episode._replace(start=pose) if key == "start" else episode._replace(goal=pose)
-                )
-        goal = episode.goal.astype(np.float64).copy()
-        goal[2] = wrap_angle_scalar(float(goal[2]))
-        return episode._replace(goal=goal)
+        """Draw an episode and take its goal image (:meth:`EpisodeSource.setup_episode`)."""
+        return self.episodes.setup_episode(rng, task, options)
 
     # --- rendering -----------------------------------------------------------------------------
     def render(self) -> np.ndarray | None:
@@ -666,43 +372,31 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     # --- helpers -------------------------------------------------------------------------------
     def _to_camera(self, pose: np.ndarray) -> np.ndarray:
         assert self.episode is not None
-        h = self.scenario.config.camera_height
+        h = self.config.scenario.config.camera_height
         return world_to_camera(self.episode.landmarks, pose, h, validate=False)
 
     def image(
         self, setup: EpisodeSetup, pose: np.ndarray, which: str, rng: np.random.Generator
     ) -> tuple[np.ndarray, np.ndarray]:
-        """Normalised image points ``(N, 2)`` (zeros where hidden) and visibility ``(N,)``.
+        """Normalised image points ``(N, 2)`` and visibility ``(N,)`` at a pose.
 
-        An ideal camera gives eq. (9) exactly (:func:`~radial_ibvs_gym.envs.logic.radial_image`);
-        a camera with imperfections is simulated as the paper's set-up measures
-        (:func:`~radial_ibvs_gym.envs.logic.camera_image`, pixel noise from ``rng``).
-
-        Parameters
-        ----------
-        setup
-            The episode.
-        pose
-            ``(3,)`` robot pose, metres and radians.
-        which
-            ``"current"`` (the scenario's camera) or ``"goal"`` (its goal camera).
-        rng
-            The env's generator (pixel noise).
+        :meth:`EpisodeSource.image`: ``which`` is ``"current"`` (the scenario's camera) or
+        ``"goal"`` (its goal camera); ``pose`` ``(3,)`` metres and radians.
         """
-        bounds = setup.radius_bounds[which]
-        if bounds is not None:
-            return logic.radial_image(setup.landmarks_c, bounds[0], bounds[1], pose)
-        camera = setup.cameras[which]
-        h = self.scenario.config.camera_height
-        p_cam = world_to_camera(setup.episode.landmarks, pose, h, validate=False)
-        return logic.camera_image(camera, p_cam, rng)
+        return self.episodes.image(setup, pose, which, rng)
+
+    def map_observation(self, episode: Episode) -> dict[str, np.ndarray]:
+        """Return the privileged map of an episode (:meth:`EpisodeSource.map_observation`)."""
+        return self.episodes.map_observation(episode)
 
     def _observe(self, pose: np.ndarray) -> None:
         assert self._setup is not None
         if self._detector is not None:
             self._points, self._visible = self._detector.observe(pose, self.np_random)
         else:
-            self._points, self._visible = self.image(self._setup, pose, "current", self.np_random)
+            self._points, self._visible = self.episodes.image(
+                self._setup, pose, "current", self.np_random
+            )
             if self._setup.missed is not None:
                 self._points, self._visible = self._setup.missed.apply(self._points, self._visible)
         self._n_visible = int(np.count_nonzero(self._visible))
@@ -712,58 +406,16 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         both = self._visible & self._setup.goal_visible
         key = both.tobytes()
         if key not in self._weights_cache:
-            self._weights_cache[key] = logic.goal_weights(self._setup.goal_points, both)
+            self._weights_cache[key] = seen.goal_weights(self._setup.goal_points, both)
         a = self._weights_cache[key]
-        return logic.feature_errors(
+        return seen.feature_errors(
             self._points,
             both,
             self._setup.c_goal,
-            self._pairs,
+            self.config.pairs,
             np.zeros(len(both)) if a is None else a,
             np.bool_(a is not None),
         )
-
-    @property
-    def map_obstacles(self) -> int:
-        """Rows of the ``obstacles`` map observation: the scenario's most obstacles (>= 1)."""
-        config = self.scenario.config
-        drawn = config.random_obstacles.count[1] if config.random_obstacles is not None else 0
-        return max(1, len(config.obstacles) + drawn)
-
-    def map_observation(self, episode: Episode) -> dict[str, np.ndarray]:
-        """Return the privileged map of an episode (metres, world frame, zero-padded).
-
-        ``room`` ``(2,)`` width and depth; ``obstacles`` ``(K, 3)`` rows ``(x, y, radius)``
-        (radius 0: none); ``landmarks`` ``(L, 3)`` their positions; ``landmark_range``
-        ``(L, 2)`` the interval of horizontal distances at which the nominal camera sees each
-        landmark (``(0, 0)``: a padded slot; 1000 stands for no upper bound).
-        """
-        obstacles = np.zeros((self.map_obstacles, 3))
-        given = np.asarray(episode.obstacles, dtype=np.float64).reshape(-1, 3)
-        obstacles[: len(given)] = given
-        k = len(episode.landmarks) if self.slots is None else self.slots.m
-        landmarks = np.asarray(episode.landmarks, dtype=np.float64)
-        padded = np.zeros((k, 3))
-        padded[: len(landmarks)] = landmarks
-        ranges = np.zeros((k, 2))
-        heights = landmarks[:, 2] - self.scenario.config.camera_height
-        bounds = self._nominal_camera.visible_radius_bounds(heights)
-        if bounds is not None:  # an on-axis convex mirror (every shipped camera)
-            ranges[: len(landmarks), 0] = bounds[0]
-            ranges[: len(landmarks), 1] = np.minimum(bounds[1], 1e3)
-        else:
-            ranges[: len(landmarks), 1] = 1e3
-        return {
-            "room": np.asarray(episode.room, dtype=np.float64).copy(),
-            "obstacles": obstacles,
-            "landmarks": padded,
-            "landmark_range": ranges,
-        }
-
-    @functools.cached_property
-    def _nominal_camera(self) -> Any:
-        """The scenario's camera without its imperfections: what the map's owner knows."""
-        return self.scenario.config.camera.build(Imperfections())
 
     def _obs(self) -> dict[str, np.ndarray]:
         assert self._setup is not None
@@ -774,21 +426,22 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     def _image_obs(self) -> dict[str, np.ndarray]:
         assert self._setup is not None
+        config = self.config
         features = None
-        if self.obs_mode == "features":
+        if config.obs_mode == "features":
             c_err, a_err = self._feature_errors()
             features = {"c_error": c_err, "alpha_m_error": a_err}
-        pose = self.world.pose if self.privileged and self.world is not None else None
-        return logic.observation(
+        pose = self.world.pose if config.privileged and self.world is not None else None
+        return seen.observation(
             self._points.reshape(-1),
             self._setup.goal_points.reshape(-1),
             self._visible,
             features=features,
-            goal_depths=self._setup.goal_depths if self.goal_depths_in_obs else None,
+            goal_depths=self._setup.goal_depths if config.goal_depths else None,
             robot_pose=pose,
-            goal_pose=self._setup.episode.goal if self.privileged else None,
-            landmarks=self._setup.landmarks_c if self.privileged else None,
-            slots=self.slots,
+            goal_pose=self._setup.episode.goal if config.privileged else None,
+            landmarks=self._setup.landmarks_c if config.privileged else None,
+            slots=config.slots,
             slot_order=self._setup.slot_order,
         )
 
@@ -800,22 +453,21 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         collision: bool,
         lost: bool = False,
     ) -> dict[str, Any]:
-        assert self._setup is not None
-        return {
-            "robot_pose": np.asarray(pose, dtype=np.float64).copy(),
-            "goal_pose": self._setup.episode.goal.copy(),
-            "position_error_m": float(errors[0]),
-            "heading_error_deg": math.degrees(float(errors[1])),
-            "is_success": bool(success),
-            "collision": bool(collision),
-            "lost": bool(lost),
-            "n_visible": self._n_visible,
-            "task": self._setup.episode.task,
-            "goal_depths": self._setup.goal_depths.copy(),
-            **({"detection": self._detector.info()} if self._detector is not None else {}),
-            **(
-                {"camera_imperfections": logic.imperfections_info(self._setup.imperfections)}
-                if self._setup.imperfections is not None
-                else {}
-            ),
-        }
+        setup = self._setup
+        assert setup is not None
+        drawn = setup.imperfections
+        info = rules.info_values(
+            pose,
+            setup.episode.goal,
+            errors,
+            success,
+            collision,
+            lost,
+            self._n_visible,
+            setup.episode.task,
+            setup.goal_depths,
+            None if drawn is None else rules.imperfections_info(drawn),
+        )
+        if self._detector is not None:
+            info["detection"] = self._detector.info()
+        return info

@@ -43,6 +43,8 @@ class ParkingImageEnv(ParkingEnv):
         ``privileged``, ``goal_depths``, ``measurement``) are refused.
     """
 
+    _own_arguments = ("image_size", "beacon_radius", "image_noise", "image_blur", "exposure")
+
     def __init__(
         self,
         *args: Any,

@@ -1,12 +1,19 @@
 """Native vector envs: ``N`` robots stepped in one batched call (``gym.make_vec``).
 
 ``gym.make_vec("RadialIBVS/Parking-v0", num_envs=N, vectorization_mode="vector_entry_point")``
-(and the same for ``ParkingGoal-v0``) builds a :class:`ParkingVectorEnv`: one
+(and the same for ``ParkingGoal-v1``) builds a :class:`ParkingVectorEnv`: one
 ``gymnasium.vector.VectorEnv`` that steps all ``N`` robots with batched numpy (the
 :mod:`~radial_ibvs_gym.physics.fleet` physics, the observation, visibility, reward terms,
-termination and truncation of :mod:`~radial_ibvs_gym.envs.logic`, the code the scalar envs
-run). It takes the scalar env's keyword arguments and gives the same numbers as
-``gym.make_vec(..., vectorization_mode="sync")`` on the same seeds and actions.
+termination and truncation of :mod:`~radial_ibvs_gym.envs.observation` and
+:mod:`~radial_ibvs_gym.envs.rules`, the code the scalar envs run). It takes the scalar env's
+keyword arguments, validated into the same :class:`~radial_ibvs_gym.envs.config.ParkingConfig`,
+and gives the same numbers as ``gym.make_vec(..., vectorization_mode="sync")`` on the same
+seeds and actions.
+
+One class of about 500 lines: its reset, its step with both autoreset modes, its observation
+and its info share the ``(N, ...)`` arrays it holds, so they stay together; the info helpers are
+in :mod:`~radial_ibvs_gym.envs.vector_info`, the goal-conditioned variant in
+:mod:`~radial_ibvs_gym.envs.parking_goal`.
 """
 
 from __future__ import annotations
@@ -15,20 +22,23 @@ import math
 from typing import Any
 
 import numpy as np
+from gymnasium import spaces
 from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 from gymnasium.vector.utils import batch_space
 from numpy.typing import NDArray
 
-from radial_ibvs_gym.envs import logic
-from radial_ibvs_gym.envs.logic import IMPERFECTION_KEYS
-from radial_ibvs_gym.envs.parking import EpisodeSetup, ParkingEnv
-from radial_ibvs_gym.envs.parking_goal import ParkingGoalEnv, ParkingGoalEnvV1
+from radial_ibvs_gym.envs import observation as seen
+from radial_ibvs_gym.envs import rules
+from radial_ibvs_gym.envs.config import ParkingConfig
+from radial_ibvs_gym.envs.episodes import EpisodeSetup, EpisodeSource
+from radial_ibvs_gym.envs.rules import IMPERFECTION_KEYS
+from radial_ibvs_gym.envs.vector_info import masked, put, select, spread
 from radial_ibvs_gym.limits import MAX_NUM_ENVS
 from radial_ibvs_gym.physics.fleet import make_fleet
 from radial_ibvs_gym.registration import MAX_EPISODE_STEPS
 
-__all__ = ["ParkingGoalVectorEnv", "ParkingGoalVectorEnvV1", "ParkingVectorEnv"]
+__all__ = ["ParkingVectorEnv"]
 
 #: accepted spellings: Gymnasium's values (``"NextStep"``) and snake case (``"next_step"``)
 _MODES = {k: m for m in AutoresetMode for k in (m.value, m.name.lower())}
@@ -82,7 +92,8 @@ class ParkingVectorEnv(VectorEnv):
     """
 
     metadata: dict[str, Any] = {"autoreset_mode": AutoresetMode.NEXT_STEP}  # noqa: RUF012
-    _scalar_class: type[ParkingEnv] = ParkingEnv
+    #: the arguments a subclass takes itself (named in the unknown-argument message)
+    _own_arguments: tuple[str, ...] = ()
 
     def __init__(
         self,
@@ -119,25 +130,24 @@ class ParkingVectorEnv(VectorEnv):
             raise ValueError("autoreset_mode 'disabled' is not supported; use 'next_step'")
         if max_episode_steps is not None and max_episode_steps < 1:
             raise ValueError(f"max_episode_steps must be >= 1, got {max_episode_steps!r}")
-        #: the scalar env that validated the arguments: its config, spaces and robot are ours
-        self.template = template = self._scalar_class(**kwargs)
+        #: the validated arguments, as the scalar env holds them
+        self.config = config = ParkingConfig.from_kwargs(extra=self._own_arguments, **kwargs)
+        self.episodes = EpisodeSource(config)
         self.num_envs = n = int(num_envs)
         self.autoreset_mode = autoreset_mode
         self.metadata = {**type(self).metadata, "autoreset_mode": autoreset_mode}
         self.render_mode = None
         self.max_episode_steps = max_episode_steps
-        self.scenario = template.scenario
-        self.single_observation_space = template.observation_space
-        self.single_action_space = template.action_space
+        self.scenario = config.scenario
+        self.single_observation_space = self._single_observation_space()
+        self.single_action_space = spaces.Box(-1.0, 1.0, (2,), np.float32)
         self.observation_space = batch_space(self.single_observation_space, n)
         self.action_space = batch_space(self.single_action_space, n)
-        config = self.scenario.config
-        room = config.random_room
-        max_room = (room.width[1], room.depth[1]) if room is not None else tuple(config.room)
-        extra = {"physics_dt": template.physics_dt, "max_room": max_room}
-        self.fleet = make_fleet(
-            template.physics, template.robot, n, obstacles=config.obstacles, **extra
-        )
+        scene = config.scenario.config
+        room = scene.random_room
+        max_room = (room.width[1], room.depth[1]) if room is not None else tuple(scene.room)
+        extra = {"physics_dt": config.physics_dt, "max_room": max_room}
+        self.fleet = make_fleet(config.physics, config.robot, n, obstacles=scene.obstacles, **extra)
         nl = self.scenario.n_landmarks
         self._rngs: list[np.random.Generator | None] = [None] * n
         self._setups: list[EpisodeSetup | None] = [None] * n
@@ -160,8 +170,8 @@ class ParkingVectorEnv(VectorEnv):
         self._fast = not (camera.imperfections.any or self._drawn)
         #: the drawn imperfections per env, columns as in logic.imperfections_info
         self._imperfections = np.zeros((n, len(IMPERFECTION_KEYS)))
-        if template.obs_mode == "features":
-            m = len(template._pairs[0])
+        if config.obs_mode == "features":
+            m = len(config.pairs[0])
             self._c_goal = np.zeros((n, m))
             self._weights = np.zeros((n, nl))
             self._has_weights = np.zeros(n, dtype=bool)
@@ -170,17 +180,21 @@ class ParkingVectorEnv(VectorEnv):
                 {} for _ in range(n)
             ]
 
+    def _single_observation_space(self) -> spaces.Space[Any]:
+        """One robot's observation space (the scalar env's)."""
+        return seen.observation_space(self.config)
+
     @property
     def start_reach(self) -> float:
-        """The scalar env's ``start_reach`` (a curriculum knob), shared by every env.
+        """``start_reach`` (a curriculum knob, as the scalar env's), shared by every env.
 
         Setting it takes effect at each env's next reset (autoresets included).
         """
-        return self.template.start_reach
+        return self.episodes.start_reach
 
     @start_reach.setter
     def start_reach(self, value: float) -> None:
-        self.template.start_reach = value
+        self.episodes.start_reach = value
 
     # --- reset ---------------------------------------------------------------------------------
     def reset(
@@ -220,7 +234,7 @@ class ParkingVectorEnv(VectorEnv):
 
     def _reset_envs(self, indices: NDArray[np.intp], options: dict[str, Any]) -> None:
         """Draw new episodes for the envs ``indices`` (each with its own generator)."""
-        t = self.template
+        t = self.config
         unknown = sorted(set(options) - {"start", "goal", "task"})
         if unknown:
             raise ValueError(f"unknown reset option(s) {unknown}; valid: ['goal', 'start', 'task']")
@@ -229,7 +243,7 @@ class ParkingVectorEnv(VectorEnv):
         for i in indices.tolist():
             rng = self._rngs[i]
             assert rng is not None
-            setup = t.setup_episode(rng, task, options)
+            setup = self.episodes.setup_episode(rng, task, options)
             episode = setup.episode
             self._landmarks_c[i] = setup.landmarks_c
             self._landmarks_w[i] = episode.landmarks
@@ -246,7 +260,7 @@ class ParkingVectorEnv(VectorEnv):
             if setup.slot_order is not None:
                 self._slot_orders[i] = setup.slot_order
             if setup.imperfections is not None:
-                drawn = logic.imperfections_info(setup.imperfections)
+                drawn = rules.imperfections_info(setup.imperfections)
                 self._imperfections[i] = [drawn[k] for k in IMPERFECTION_KEYS]
             rooms.append(episode.room)
             starts.append(episode.start)
@@ -261,7 +275,7 @@ class ParkingVectorEnv(VectorEnv):
         poses = self.fleet.poses
         self._observe(poses, indices)
         goals = self._goals[indices].T
-        errors = logic.pose_errors(poses[indices].T, goals)
+        errors = rules.pose_errors(poses[indices].T, goals)
         self._prev[0][indices], self._prev[1][indices] = errors
         self._elapsed[indices] = 0
 
@@ -270,7 +284,7 @@ class ParkingVectorEnv(VectorEnv):
         self, actions: Any
     ) -> tuple[Any, NDArray[np.float64], NDArray[np.bool_], NDArray[np.bool_], dict[str, Any]]:
         """Step every env; see the class docstring for autoreset and the info arrays."""
-        n, t = self.num_envs, self.template
+        n, t = self.num_envs, self.config
         a = np.asarray(actions, dtype=np.float64)
         if a.shape != (n, 2):
             raise ValueError(
@@ -279,13 +293,13 @@ class ParkingVectorEnv(VectorEnv):
         finite = np.isfinite(a).all(axis=1)
         if not finite.all():
             i = int(np.argmin(finite))
-            raise ValueError(f"env {i}: action must be {logic.ACTION_RULE}, got {a[i].tolist()}")
+            raise ValueError(f"env {i}: action must be {rules.ACTION_RULE}, got {a[i].tolist()}")
         if not any(self._rngs):
             raise RuntimeError("call reset() before step()")
         resetting = (
             self._autoreset.copy() if self.autoreset_mode == AutoresetMode.NEXT_STEP else None
         )
-        command = np.clip(a, -1.0, 1.0) * np.array(t._scale)
+        command = np.clip(a, -1.0, 1.0) * np.array(t.scale)
         if t.action_type == "wheels":
             from radial_ibvs_gym.physics import wheels_to_twist
 
@@ -299,9 +313,9 @@ class ParkingVectorEnv(VectorEnv):
             self._observe(poses, np.flatnonzero(~resetting))
         else:
             self._observe(poses, np.arange(n))
-        now = logic.pose_errors(poses.T, self._goals.T)
+        now = rules.pose_errors(poses.T, self._goals.T)
         n_visible = self._visible.sum(axis=1)
-        success, lost, terminated = logic.episode_end(
+        success, lost, terminated = rules.episode_end(
             *now,
             n_visible,
             collision,
@@ -320,7 +334,7 @@ class ParkingVectorEnv(VectorEnv):
             else np.zeros(n, dtype=bool)
         )
         info = self._info(poses, now, success, collision, n_visible, lost)
-        info["reward_terms"] = _masked(terms, np.ones(n, dtype=bool))
+        info["reward_terms"] = masked(terms, np.ones(n, dtype=bool))
         info["_reward_terms"] = np.ones(n, dtype=bool)
         obs = self._observation()
         if resetting is not None:
@@ -340,7 +354,7 @@ class ParkingVectorEnv(VectorEnv):
                 final_obs = np.full(n, None, dtype=object)
                 for i in idx.tolist():
                     final_obs[i] = {k: v[i].copy() for k, v in obs.items()}
-                final_info = _select(info, ended)
+                final_info = select(info, ended)
                 self._reset_envs(idx, {})
                 self._refresh(obs, idx)
                 self._merge_reset_info(info, idx)
@@ -356,25 +370,25 @@ class ParkingVectorEnv(VectorEnv):
         lost: NDArray[np.bool_],
         success: NDArray[np.bool_],
     ) -> dict[str, NDArray[np.float64]]:
-        return logic.reward_terms(previous, now, collision, lost, success, self.template.weights)
+        return rules.reward_terms(previous, now, collision, lost, success, self.config.weights)
 
     # --- observation and info ------------------------------------------------------------------
     def _observe(self, poses: NDArray[np.float64], indices: NDArray[np.intp]) -> None:
         """Image points and visibility of the envs ``indices`` at their ``poses`` ``(N, 3)``."""
         if self._fast:
             if len(indices) == self.num_envs:
-                pts, vis = logic.radial_image(
+                pts, vis = seen.radial_image(
                     self._landmarks_c, self._bounds[0], self._bounds[1], poses
                 )
             else:
-                pts, vis = logic.radial_image(
+                pts, vis = seen.radial_image(
                     self._landmarks_c[indices],
                     self._bounds[0, indices],
                     self._bounds[1, indices],
                     poses[indices],
                 )
             self._points[indices], self._visible[indices] = pts, vis
-            if self.template.missed_detections is not None:
+            if self.config.missed_detections is not None:
                 for i in indices.tolist():
                     missed = self._setups[i].missed
                     self._points[i], self._visible[i] = missed.apply(
@@ -387,14 +401,14 @@ class ParkingVectorEnv(VectorEnv):
             assert all(s is not None for s in setups) and all(r is not None for r in rngs)
             cameras = [s.cameras["current"] for s in setups]
             p_cam = self._camera_frame(poses[indices], indices)
-            points, visible = logic.camera_images(cameras, p_cam, rngs)
+            points, visible = seen.camera_images(cameras, p_cam, rngs)
             self._points[indices], self._visible[indices] = points, visible
             for i, setup in zip(rows, setups, strict=True):
                 if setup is not None and setup.missed is not None:
                     self._points[i], self._visible[i] = setup.missed.apply(
                         self._points[i], self._visible[i]
                     )
-        if self.template.obs_mode == "features":
+        if self.config.obs_mode == "features":
             both = self._visible[indices] & self._goal_visible[indices]
             changed = (both != self._both[indices]).any(axis=1)
             for k in np.flatnonzero(changed).tolist():
@@ -402,7 +416,7 @@ class ParkingVectorEnv(VectorEnv):
                 key = both[k].tobytes()
                 cache = self._weight_caches[i]
                 if key not in cache:
-                    cache[key] = logic.goal_weights(self._goal_points[i], both[k])
+                    cache[key] = seen.goal_weights(self._goal_points[i], both[k])
                 a = cache[key]
                 self._has_weights[i] = a is not None
                 self._weights[i] = 0.0 if a is None else a
@@ -420,30 +434,30 @@ class ParkingVectorEnv(VectorEnv):
         s = np.array([math.sin(a) for a in yaw])[:, None]
         dx = landmarks[..., 0] - poses[:, 0, None]
         dy = landmarks[..., 1] - poses[:, 1, None]
-        z = landmarks[..., 2] - self.template.scenario.config.camera_height
+        z = landmarks[..., 2] - self.config.scenario.config.camera_height
         return np.stack([c * dx + s * dy, -s * dx + c * dy, z], axis=-1)
 
     def _observation(self, idx: Any = slice(None)) -> dict[str, NDArray[Any]]:
         """Return the observations of the envs ``idx`` (default: all)."""
-        t = self.template
+        t = self.config
         points = self._points[idx]
         extra: dict[str, NDArray[Any]] = {}
         if t.obs_mode == "features":
-            c_err, a_err = logic.feature_errors(
+            c_err, a_err = seen.feature_errors(
                 points,
                 self._both[idx],
                 self._c_goal[idx],
-                t._pairs,
+                t.pairs,
                 self._weights[idx],
                 self._has_weights[idx],
             )
             extra = {"c_error": c_err, "alpha_m_error": a_err}
-        obs = logic.observation(
+        obs = seen.observation(
             points.reshape(len(points), -1),
             self._goal_points[idx].reshape(len(points), -1),
             self._visible[idx],
             features=extra,
-            goal_depths=self._goal_depths[idx] if t.goal_depths_in_obs else None,
+            goal_depths=self._goal_depths[idx] if t.goal_depths else None,
             robot_pose=self.fleet.poses[idx] if t.privileged else None,
             goal_pose=self._goals[idx] if t.privileged else None,
             landmarks=self._landmarks_c[idx] if t.privileged else None,
@@ -472,56 +486,52 @@ class ParkingVectorEnv(VectorEnv):
         n_visible: NDArray[np.integer[Any]],
         lost: NDArray[np.bool_] | None = None,
     ) -> dict[str, Any]:
-        values = {
-            "robot_pose": poses.copy(),
-            "goal_pose": self._goals.copy(),
-            "position_error_m": errors[0].astype(np.float64),
-            "heading_error_deg": np.degrees(errors[1]),
-            "is_success": np.asarray(success, dtype=bool),
-            "collision": np.asarray(collision, dtype=bool),
-            "lost": np.zeros(self.num_envs, bool) if lost is None else np.asarray(lost, bool),
-            "n_visible": np.asarray(n_visible, dtype=np.int64),
-            "task": self._tasks.copy(),
-            "goal_depths": self._goal_depths.copy(),
-            **self._imperfections_info(slice(None)),
-        }
-        return _masked(values, np.ones(self.num_envs, dtype=bool))
+        values = rules.info_values(
+            poses,
+            self._goals,
+            errors,
+            success,
+            collision,
+            np.zeros(self.num_envs, bool) if lost is None else lost,
+            n_visible,
+            self._tasks,
+            self._goal_depths,
+            self._imperfections_info(slice(None)),
+        )
+        return masked(values, np.ones(self.num_envs, dtype=bool))
 
-    def _imperfections_info(self, rows: Any) -> dict[str, Any]:
-        """``{"camera_imperfections": {key: (k,) array}}`` when they are drawn, else empty."""
+    def _imperfections_info(self, rows: Any) -> dict[str, Any] | None:
+        """Return the drawn imperfections of the envs ``rows`` (``{key: (k,) array}``) or None."""
         if not self._drawn:
-            return {}
+            return None
         table = self._imperfections[rows]
-        return {"camera_imperfections": {k: table[:, j] for j, k in enumerate(IMPERFECTION_KEYS)}}
+        return {k: table[:, j] for j, k in enumerate(IMPERFECTION_KEYS)}
 
     def _reset_values(self, indices: NDArray[np.intp]) -> dict[str, Any]:
         """Return the reset ``info`` values of the envs ``indices`` (rows of each key)."""
-        k = len(indices)
-        no = np.zeros(k, dtype=bool)
-        errors = (self._prev[0][indices], self._prev[1][indices])
-        return {
-            "robot_pose": self.fleet.poses[indices],
-            "goal_pose": self._goals[indices],
-            "position_error_m": errors[0],
-            "heading_error_deg": np.degrees(errors[1]),
-            "is_success": no,
-            "collision": no,
-            "lost": no,
-            "n_visible": self._visible[indices].sum(axis=1).astype(np.int64),
-            "task": self._tasks[indices],
-            "goal_depths": self._goal_depths[indices],
-            **self._imperfections_info(indices),
-        }
+        no = np.zeros(len(indices), dtype=bool)
+        return rules.info_values(
+            self.fleet.poses[indices],
+            self._goals[indices],
+            (self._prev[0][indices], self._prev[1][indices]),
+            no,
+            no,
+            no,
+            self._visible[indices].sum(axis=1),
+            self._tasks[indices],
+            self._goal_depths[indices],
+            self._imperfections_info(indices),
+        )
 
     def _reset_info(self, indices: NDArray[np.intp]) -> dict[str, Any]:
         """Return the ``info`` of :meth:`reset`: the reset envs' rows, the others masked."""
         mask = np.zeros(self.num_envs, dtype=bool)
         mask[indices] = True
-        return _spread(self._reset_values(indices), indices, mask)
+        return spread(self._reset_values(indices), indices, mask)
 
     def _merge_reset_info(self, info: dict[str, Any], indices: NDArray[np.intp]) -> None:
         """Replace the entries of the envs just reset by their reset info (as SyncVectorEnv)."""
-        _put(info, self._reset_values(indices), indices)
+        put(info, self._reset_values(indices), indices)
         terms = info["reward_terms"]
         for key in [k for k in terms if not k.startswith("_")]:
             terms[key][indices] = 0.0
@@ -533,141 +543,3 @@ class ParkingVectorEnv(VectorEnv):
     def close_extras(self, **kwargs: Any) -> None:
         """Release the physics."""
         self.fleet = None  # type: ignore[assignment]
-
-
-class ParkingGoalVectorEnv(ParkingVectorEnv):
-    """``RadialIBVS/ParkingGoal-v0`` for ``num_envs`` robots: the goal-conditioned observation.
-
-    Same as :class:`ParkingVectorEnv` with the observation and reward of
-    :class:`~radial_ibvs_gym.envs.parking_goal.ParkingGoalEnv` (``compute_reward`` included,
-    for HER).
-    """
-
-    _scalar_class = ParkingGoalEnv
-
-    def compute_reward(
-        self, achieved_goal: NDArray[Any], desired_goal: NDArray[Any], info: Any
-    ) -> NDArray[np.float64]:
-        """Return the image-space reward of :meth:`ParkingGoalEnv.compute_reward` (batched)."""
-        return self.template.compute_reward(achieved_goal, desired_goal, info)  # type: ignore[attr-defined]
-
-    def _observation(self, idx: Any = slice(None)) -> dict[str, NDArray[Any]]:
-        points = self._points[idx]
-        n = len(points)
-        return logic.goal_observation(
-            points.reshape(n, -1), self._visible[idx], self._goal_points[idx].reshape(n, -1)
-        )
-
-    def _reward_terms(
-        self,
-        previous: tuple[NDArray[np.float64], NDArray[np.float64]],
-        now: tuple[NDArray[np.float64], NDArray[np.float64]],
-        collision: NDArray[np.bool_],
-        lost: NDArray[np.bool_],
-        success: NDArray[np.bool_],
-    ) -> dict[str, NDArray[np.float64]]:
-        terms = super()._reward_terms(previous, now, collision, lost, success)
-        n = self.num_envs
-        distance = self.compute_reward(
-            self._points.reshape(n, -1).astype(np.float32),
-            self._goal_points.reshape(n, -1).astype(np.float32),
-            None,
-        )
-        return logic.goal_reward_terms(terms, distance.astype(np.float64))
-
-
-class ParkingGoalVectorEnvV1(ParkingVectorEnv):
-    """``RadialIBVS/ParkingGoal-v1`` for ``num_envs`` robots (all reward in ``compute_reward``).
-
-    Same as :class:`ParkingVectorEnv` with the observation and reward of
-    :class:`~radial_ibvs_gym.envs.parking_goal.ParkingGoalEnvV1`: the step reward of each
-    robot equals ``compute_reward(achieved_goal, desired_goal, info)`` for its row.
-    """
-
-    _scalar_class = ParkingGoalEnvV1
-
-    def compute_reward(
-        self, achieved_goal: NDArray[Any], desired_goal: NDArray[Any], info: Any
-    ) -> NDArray[np.float64]:
-        """Return :meth:`ParkingGoalEnvV1.compute_reward` (batched goals and infos)."""
-        template: ParkingGoalEnvV1 = self.template  # type: ignore[assignment]
-        return template.compute_reward(achieved_goal, desired_goal, info)
-
-    def _observation(self, idx: Any = slice(None)) -> dict[str, NDArray[Any]]:
-        points = self._points[idx]
-        n = len(points)
-        obs = {
-            "points": points.reshape(n, -1),
-            "visible": self._visible[idx].astype(np.float32),
-            "goal_points": self._goal_points[idx].reshape(n, -1),
-        }
-        t = self.template
-        if t.slots is not None:
-            obs = t.slots.pad(obs, self._slot_orders[idx] if t.slot_order == "random" else None)
-        return logic.goal_observation(obs["points"], obs["visible"], obs["goal_points"])
-
-    def _reward_terms(
-        self,
-        previous: tuple[NDArray[np.float64], NDArray[np.float64]],
-        now: tuple[NDArray[np.float64], NDArray[np.float64]],
-        collision: NDArray[np.bool_],
-        lost: NDArray[np.bool_],
-        success: NDArray[np.bool_],
-    ) -> dict[str, NDArray[np.float64]]:
-        n = self.num_envs  # the image distance ignores empty slots: no padding needed here
-        achieved = self._points.reshape(n, -1).astype(np.float32)
-        desired = self._goal_points.reshape(n, -1).astype(np.float32)
-        events = {"collision": collision, "lost": lost}
-        template: ParkingGoalEnvV1 = self.template  # type: ignore[assignment]
-        terms = template.reward_terms_of(achieved, desired, events)
-        return {k: np.asarray(v, dtype=np.float64) for k, v in terms.items()}
-
-
-def _spread(values: dict[str, Any], indices: NDArray[np.intp], mask: NDArray[np.bool_]) -> dict:
-    """Rows of the envs ``indices`` as full arrays (zeros elsewhere) with ``_key`` masks."""
-    out: dict[str, Any] = {}
-    for key, rows in values.items():
-        if isinstance(rows, dict):
-            out[key] = _spread(rows, indices, mask)
-        else:
-            full = np.zeros((len(mask), *rows.shape[1:]), dtype=rows.dtype)
-            full[indices] = rows
-            out[key] = full
-        out[f"_{key}"] = mask.copy()
-    return out
-
-
-def _put(info: dict[str, Any], values: dict[str, Any], indices: NDArray[np.intp]) -> None:
-    """Write the rows of the envs ``indices`` into ``info`` (nested dicts too)."""
-    for key, rows in values.items():
-        if isinstance(rows, dict):
-            _put(info[key], rows, indices)
-        else:
-            info[key][indices] = rows
-
-
-def _masked(values: dict[str, Any], mask: NDArray[np.bool_]) -> dict[str, Any]:
-    """``values`` with a ``_key`` mask beside every key (Gymnasium's vector info convention)."""
-    out: dict[str, Any] = {}
-    for key, value in values.items():
-        out[key] = _masked(value, mask) if isinstance(value, dict) else value
-        out[f"_{key}"] = mask.copy()
-    return out
-
-
-def _select(info: dict[str, Any], mask: NDArray[np.bool_]) -> dict[str, Any]:
-    """Keep the entries of the envs in ``mask``: other rows zeroed and their masks off."""
-    out: dict[str, Any] = {}
-    for key, value in info.items():
-        if key.startswith("_"):
-            continue
-        if isinstance(value, dict):
-            out[key] = _select(value, mask)
-        elif isinstance(value, np.ndarray) and value.dtype != object:
-            kept = np.zeros_like(value)
-            kept[mask] = value[mask]
-            out[key] = kept
-        else:
-            continue
-        out[f"_{key}"] = mask & info.get(f"_{key}", np.ones_like(mask))
-    return out

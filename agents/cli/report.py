@@ -1,0 +1,100 @@
+"""``radial-ibvs report``: tables and curves from benchmark rows, as Markdown."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import Any
+
+__all__ = ["add_parser", "run"]
+
+
+def _pairs(items: list[str], option: str) -> dict[str, str]:
+    """``["A=B", ...]`` as ``{"A": "B"}``; a bad item is an error naming the option."""
+    bad = [item for item in items if "=" not in item or item.startswith("=")]
+    if bad:
+        raise ValueError(f"{option} takes NAME=VALUE, got {bad}")
+    return dict(item.split("=", 1) for item in items)
+
+
+def add_parser(sub: Any) -> None:
+    """Add the ``report`` sub-command to the sub-parsers ``sub``."""
+    parser = sub.add_parser(
+        "report",
+        help="tables and curves from benchmark rows (Markdown, ready to paste)",
+        description=(
+            "Read the rows of one or more `radial-ibvs benchmark` runs (their episodes.json) "
+            "and print, as Markdown: the success table (policies as columns, the planner's "
+            "limit first, 95 % Wilson intervals) and how the episodes ended; with --seeds, "
+            "each group of training seeds' rates and their IQM with a stratified-bootstrap "
+            "interval; with --curves, DAgger students' per-round success. With --out, writes "
+            "OUT/report.md and OUT/dagger-curves.png."
+        ),
+    )
+    parser.add_argument("rows", type=Path, nargs="+", help="episodes.json of benchmark runs")
+    parser.add_argument("--suites", nargs="+", help="suites, in this order (default: all)")
+    parser.add_argument("--policies", nargs="+", help="policies, in this order (default: all)")
+    parser.add_argument(
+        "--rename", nargs="+", default=[], metavar="OLD=NEW", help="show policy OLD as NEW"
+    )
+    parser.add_argument(
+        "--seeds",
+        action="append",
+        default=[],
+        metavar="NAME=POLICY,POLICY,...",
+        help="a config's training seeds (one policy per seed): IQM across them; repeatable",
+    )
+    parser.add_argument(
+        "--tolerance",
+        default="2cm/2deg",
+        choices=("2cm/2deg", "10cm/5deg", "30cm/15deg"),
+        help="for --seeds (default: %(default)s)",
+    )
+    parser.add_argument(
+        "--curves",
+        action="append",
+        default=[],
+        metavar="LABEL=DIR,DIR,...",
+        help="DAgger runs (radial-ibvs distill directories) to plot per round; repeatable",
+    )
+    parser.add_argument("--out", type=Path, help="write report.md (and the curves) here")
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run ``radial-ibvs report``; returns the exit code."""
+    from agents.experiments.report import dagger_curves, load_rows, results_table, seeds_table
+    from agents.io import write_atomic
+
+    renames = _pairs(args.rename, "--rename")
+    seeds = {k: v.split(",") for k, v in _pairs(args.seeds, "--seeds").items()}
+    curves = {k: v.split(",") for k, v in _pairs(args.curves, "--curves").items()}
+    if curves and args.out is None:
+        raise ValueError("--curves draws a figure: give --out DIR for it")
+    rows = load_rows(args.rows)
+    sources = ", ".join(str(p) for p in args.rows)
+    parts = [
+        "# Benchmark report",
+        "",
+        f"From {len(rows)} episodes ({sources}). Success: the final pose within 2 cm and "
+        "2 deg of the goal; in brackets, the 95 % Wilson interval (cells of 20 episodes or more).",
+        "",
+        results_table(rows, args.suites, args.policies, renames),
+    ]
+    if seeds:
+        parts += ["## Across training seeds", "", seeds_table(rows, seeds, args.tolerance)]
+    if curves:
+        figure = args.out / "dagger-curves.png"
+        parts += [
+            "## DAgger rounds",
+            "",
+            "![success after each DAgger round](dagger-curves.png)",
+            "",
+            dagger_curves(curves, figure),
+        ]
+    text = "\n".join(parts)
+    print(text)
+    if args.out is not None:
+        args.out.mkdir(parents=True, exist_ok=True)
+        write_atomic(args.out / "report.md", text.encode())
+        print(f"saved {args.out / 'report.md'}")
+    return 0

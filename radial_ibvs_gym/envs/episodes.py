@@ -1,0 +1,301 @@
+"""Drawing a parking episode and taking its goal image (the scalar and the vector envs alike).
+
+:class:`EpisodeSource` draws an episode from the scenario with the env's generator (room,
+landmarks, start, goal, the camera's imperfections where the scenario gives ranges), takes the
+goal image, and keeps what the env needs of it in an :class:`EpisodeSetup`. The scalar env
+(:class:`~radial_ibvs_gym.envs.parking.ParkingEnv`) and the native vector env
+(:class:`~radial_ibvs_gym.envs.parking_vector.ParkingVectorEnv`, one draw per robot) share it,
+so a seed gives the same episode in both.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from radial_ibvs_gym.camera import Imperfections
+from radial_ibvs_gym.envs.config import ParkingConfig
+from radial_ibvs_gym.envs.missed import MissedState
+from radial_ibvs_gym.envs.observation import camera_image, radial_image, unit_or_dummy
+from radial_ibvs_gym.features import c_ij
+from radial_ibvs_gym.geometry import world_to_camera, wrap_angle_scalar
+from radial_ibvs_gym.physics.base import footprint_collides, start_pose_error
+from radial_ibvs_gym.scenarios import Episode
+from radial_ibvs_gym.vision.pipeline import DetectedPoints
+
+__all__ = ["EpisodeSetup", "EpisodeSource"]
+
+
+@dataclass
+class EpisodeSetup:
+    """What an env keeps of a drawn episode (the scalar and the vector envs alike).
+
+    Attributes
+    ----------
+    episode
+        The drawn episode (room, landmarks, start, goal; the goal's yaw wrapped).
+    goal_depths
+        ``(N,)`` goal depths ``d*`` given to the policy, metres (times ``depth_scale``).
+    landmarks_c
+        ``(N,)`` the landmarks on the floor plane as complex numbers ``x + i y``, metres.
+    radius_bounds
+        Per camera (``"current"``, ``"goal"``): the interval of horizontal distances the mirror
+        sees at each landmark's height, ``(lo, hi)`` each ``(N,)``; ``None`` for a camera with
+        imperfections (projected exactly instead).
+    goal_points, goal_visible
+        ``(N, 2)`` the goal image (zeros where hidden) and ``(N,)`` its visibility.
+    c_goal
+        ``(M,)`` the goal image's ``c*_ij`` (``obs_mode="features"``; else ``None``).
+    cameras
+        The episode's cameras, ``"current"`` and ``"goal"``: the scenario's, or built with
+        the imperfections drawn for this episode.
+    imperfections
+        The imperfections drawn for this episode (``None``: the scenario draws none).
+    map
+        The privileged map of the episode (:meth:`EpisodeSource.map_observation`), computed
+        once at reset when ``privileged_map=True``; else ``None``.
+    missed
+        The episode's missed detections (``missed_detections``), or ``None``.
+    """
+
+    episode: Episode
+    goal_depths: np.ndarray
+    landmarks_c: np.ndarray
+    radius_bounds: dict[str, tuple[np.ndarray, np.ndarray] | None]
+    goal_points: np.ndarray
+    goal_visible: np.ndarray
+    c_goal: np.ndarray | None = None
+    cameras: dict[str, Any] = field(default_factory=dict)
+    imperfections: Imperfections | None = None
+    map: dict[str, np.ndarray] | None = None
+    slot_order: np.ndarray | None = None
+    missed: MissedState | None = None
+
+
+class EpisodeSource:
+    """Draws the episodes of one env (or of every robot of a vector env) from its config.
+
+    Parameters
+    ----------
+    config
+        The env's arguments.
+    detector
+        The detected-points pipeline of a scalar env with ``measurement="detected"`` (it takes
+        the goal image from pixels), or ``None``.
+    """
+
+    def __init__(self, config: ParkingConfig, detector: DetectedPoints | None = None) -> None:
+        self.config = config
+        self._detector = detector
+        self._start_reach = config.start_reach
+        self._bounds_cache: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+
+    @property
+    def start_reach(self) -> float:
+        """The fraction of the start distribution drawn from, in ``(0, 1]`` (a curriculum).
+
+        At ``1`` the scenario draws starts as it says. Below, each start lies within
+        ``start_reach`` times the scenario's start-goal distance bounds of its goal, with a
+        heading within ``start_reach * pi`` radians of the goal's
+        (:meth:`radial_ibvs_gym.scenarios.Scenario.sample`). Setting it takes effect at the
+        next draw: a reverse curriculum raises it from near 0 to 1 over training. Only for
+        scenarios whose starts are ``anywhere`` (``random``, ``random-obstacles``).
+        """
+        return self._start_reach
+
+    @start_reach.setter
+    def start_reach(self, value: float) -> None:
+        self._start_reach = self.config.scenario.check_reach(
+            value, self.config.tasks, "start_reach"
+        )
+
+    def setup_episode(
+        self, rng: np.random.Generator, task: int | None, options: dict[str, Any]
+    ) -> EpisodeSetup:
+        """Draw an episode with ``rng`` and take its goal image (the vector env uses it too).
+
+        Parameters
+        ----------
+        rng
+            The env's generator.
+        task
+            Task index, or ``None`` to draw one.
+        options
+            Reset options: ``start`` and ``goal`` poses fix those of the episode.
+
+        Raises
+        ------
+        ValueError
+            For a bad option, or a goal image with fewer than ``min_visible`` landmarks
+            (detected points: in 10 draws).
+        """
+        # detected points: a goal image can show fewer beacons than the scenario guaranteed
+        # (too small, cut by the rim); draw again, a bounded number of times
+        attempts = 10 if self._detector is not None and "goal" not in options else 1
+        for attempt in range(attempts):
+            episode = self._draw_episode(rng, task, options)
+            cameras, drawn = self._episode_cameras(rng)
+            landmarks = episode.landmarks
+            heights = landmarks[:, 2] - self.config.scenario.config.camera_height
+            bounds: dict[str, tuple[np.ndarray, np.ndarray] | None] = {}
+            for which, camera in cameras.items():
+                bounds[which] = self._radius_bounds(which, camera, heights)
+            setup = EpisodeSetup(
+                episode=episode,
+                goal_depths=self.config.scenario.goal_depths(episode),
+                landmarks_c=landmarks[:, 0] + 1j * landmarks[:, 1],
+                radius_bounds=bounds,
+                goal_points=np.zeros((len(landmarks), 2)),
+                goal_visible=np.zeros(len(landmarks), dtype=bool),
+                cameras=cameras,
+                imperfections=drawn,
+            )
+            if self._detector is not None:
+                setup.goal_points, setup.goal_visible = self._detector.reset(
+                    episode.room, episode.landmarks, episode.start, episode.goal, rng
+                )
+            else:
+                setup.goal_points, setup.goal_visible = self.image(setup, episode.goal, "goal", rng)
+            if setup.goal_visible.sum() >= self.config.min_visible:
+                break
+            if attempt == attempts - 1:
+                seen = "detected" if self._detector is not None else "visible"
+                raise ValueError(
+                    f"only {int(setup.goal_visible.sum())} landmarks are {seen} at the goal "
+                    f"{episode.goal.tolist()}; at least {self.config.min_visible} are needed"
+                    + (f" (in {attempts} draws)" if attempts > 1 else "")
+                )
+        if self.config.obs_mode == "features":
+            setup.c_goal = c_ij(unit_or_dummy(setup.goal_points, setup.goal_visible))
+        if self.config.privileged_map:  # fixed for the episode: computed once, copied at each step
+            setup.map = self.map_observation(setup.episode)
+        if self.config.missed_detections is not None:
+            setup.missed = self.config.missed_detections.start(rng, len(setup.episode.landmarks))
+        if self.config.slot_order == "random":  # the last draw: the episode is the same as fixed's
+            assert self.config.slots is not None
+            setup.slot_order = self.config.slots.draw_order(rng)
+        return setup
+
+    def _episode_cameras(
+        self, rng: np.random.Generator
+    ) -> tuple[dict[str, Any], Imperfections | None]:
+        """Return the episode's cameras, imperfections drawn where the scenario gives ranges.
+
+        The goal image is taken by the same real camera (the same calibration errors; its
+        own pixel noise), unless the scenario names a goal camera of its own.
+        """
+        config = self.config.scenario.config
+        cameras = {"current": self.config.scenario.camera, "goal": self.config.scenario.goal_camera}
+        ranges = config.camera.imperfection_ranges
+        drawn = None
+        if ranges is not None:
+            drawn = ranges.draw(rng, config.camera.imperfections)
+            cameras["current"] = config.camera.build(drawn)
+            if config.goal_camera is None:
+                cameras["goal"] = cameras["current"]
+        goal_spec = config.goal_camera
+        if goal_spec is not None and goal_spec.imperfection_ranges is not None:
+            goal_drawn = goal_spec.imperfection_ranges.draw(rng, goal_spec.imperfections)
+            cameras["goal"] = goal_spec.build(goal_drawn)
+        return cameras, drawn
+
+    def _radius_bounds(
+        self, which: str, camera: Any, heights: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray] | None:
+        """Return the camera's visible distance interval per landmark height (None: imperfect).
+
+        Cached per camera for scenarios with fixed landmarks (the same heights every episode).
+        """
+        if camera.imperfections.any:
+            return None
+        if self.config.scenario.config.random_landmarks is not None:
+            return camera.visible_radius_bounds(heights)
+        if which not in self._bounds_cache:
+            self._bounds_cache[which] = camera.visible_radius_bounds(heights)
+        return self._bounds_cache[which]
+
+    def _draw_episode(
+        self, rng: np.random.Generator, task: int | None, options: dict[str, Any]
+    ) -> Episode:
+        """Draw an episode from the scenario, with the start and goal ``options`` applied."""
+        episode = self.config.scenario.sample(rng, task=task, reach=self._start_reach)
+        for key in ("start", "goal"):
+            if key in options:
+                pose = np.asarray(options[key], dtype=np.float64)
+                if pose.shape != (3,) or not np.isfinite(pose).all():
+                    raise ValueError(f"options[{key!r}] must be (x, y, yaw), got {options[key]!r}")
+                # the same check in every backend, before any physics sees the pose
+                if footprint_collides(pose, self.config.robot, episode.room, episode.obstacles):
+                    raise ValueError(f"options[{key!r}]: {start_pose_error(pose, key)}")
+                episode = (
+                    episode._replace(start=pose) if key == "start" else episode._replace(goal=pose)
+                )
+        goal = episode.goal.astype(np.float64).copy()
+        goal[2] = wrap_angle_scalar(float(goal[2]))
+        return episode._replace(goal=goal)
+
+    def image(
+        self, setup: EpisodeSetup, pose: np.ndarray, which: str, rng: np.random.Generator
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Normalised image points ``(N, 2)`` (zeros where hidden) and visibility ``(N,)``.
+
+        An ideal camera gives eq. (9) exactly (:func:`~radial_ibvs_gym.envs.radial_image`);
+        a camera with imperfections is simulated as the paper's set-up measures
+        (:func:`~radial_ibvs_gym.envs.camera_image`, pixel noise from ``rng``).
+
+        Parameters
+        ----------
+        setup
+            The episode.
+        pose
+            ``(3,)`` robot pose, metres and radians.
+        which
+            ``"current"`` (the scenario's camera) or ``"goal"`` (its goal camera).
+        rng
+            The env's generator (pixel noise).
+        """
+        bounds = setup.radius_bounds[which]
+        if bounds is not None:
+            return radial_image(setup.landmarks_c, bounds[0], bounds[1], pose)
+        camera = setup.cameras[which]
+        h = self.config.scenario.config.camera_height
+        p_cam = world_to_camera(setup.episode.landmarks, pose, h, validate=False)
+        return camera_image(camera, p_cam, rng)
+
+    def map_observation(self, episode: Episode) -> dict[str, np.ndarray]:
+        """Return the privileged map of an episode (metres, world frame, zero-padded).
+
+        ``room`` ``(2,)`` width and depth; ``obstacles`` ``(K, 3)`` rows ``(x, y, radius)``
+        (radius 0: none); ``landmarks`` ``(L, 3)`` their positions; ``landmark_range``
+        ``(L, 2)`` the interval of horizontal distances at which the nominal camera sees each
+        landmark (``(0, 0)``: a padded slot; 1000 stands for no upper bound).
+        """
+        obstacles = np.zeros((self.config.map_obstacles, 3))
+        given = np.asarray(episode.obstacles, dtype=np.float64).reshape(-1, 3)
+        obstacles[: len(given)] = given
+        k = len(episode.landmarks) if self.config.slots is None else self.config.slots.m
+        landmarks = np.asarray(episode.landmarks, dtype=np.float64)
+        padded = np.zeros((k, 3))
+        padded[: len(landmarks)] = landmarks
+        ranges = np.zeros((k, 2))
+        heights = landmarks[:, 2] - self.config.scenario.config.camera_height
+        bounds = self._nominal_camera.visible_radius_bounds(heights)
+        if bounds is not None:  # an on-axis convex mirror (every shipped camera)
+            ranges[: len(landmarks), 0] = bounds[0]
+            ranges[: len(landmarks), 1] = np.minimum(bounds[1], 1e3)
+        else:
+            ranges[: len(landmarks), 1] = 1e3
+        return {
+            "room": np.asarray(episode.room, dtype=np.float64).copy(),
+            "obstacles": obstacles,
+            "landmarks": padded,
+            "landmark_range": ranges,
+        }
+
+    @functools.cached_property
+    def _nominal_camera(self) -> Any:
+        """The scenario's camera without its imperfections: what the map's owner knows."""
+        return self.config.scenario.config.camera.build(Imperfections())

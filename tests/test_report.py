@@ -1,0 +1,103 @@
+"""radial-ibvs report: the tables and curves it writes from benchmark rows."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+
+from agents.cli import main
+from agents.experiments.report import load_rows, results_table, seeds_table
+from agents.stats import iqm_interval
+
+
+def _row(policy: str, suite: str, variant: str, success: bool, end: str, seed: int) -> dict:
+    tolerances = {"2cm/2deg": success, "10cm/5deg": True, "30cm/15deg": True}
+    return {
+        "policy": policy,
+        "suite": suite,
+        "variant": variant,
+        "success": success,
+        "end": "success" if success else end,
+        "seed": seed,
+        "success_by_tolerance": tolerances,
+    }
+
+
+def _rows() -> list[dict]:
+    rows = []
+    for seed in range(20):
+        rows.append(_row("ibvs", "held-out", "random", seed < 15, "time-out", seed))
+        rows.append(_row("planner", "held-out", "random", True, "success", seed))
+        rows.append(_row("a-s0", "held-out", "random", seed < 10, "collision", seed))
+        rows.append(_row("a-s1", "held-out", "random", seed < 12, "lost", seed))
+    for seed in range(4):
+        rows.append(_row("ibvs", "paper", "task 0", seed != 2, "time-out", seed))
+        rows.append(_row("a-s0", "paper", "task 0", True, "success", seed))
+        rows.append(_row("a-s1", "paper", "task 0", seed < 2, "lost", seed))
+    return rows
+
+
+def test_the_table_counts_successes_and_ends_per_policy():
+    table = results_table(_rows(), suites=["held-out", "paper"])
+    lines = table.splitlines()
+    assert lines[0].startswith("| suite: variant | episodes | `planner` | `ibvs` |")  # limit 1st
+    held_out = next(line for line in lines if line.startswith("| held-out: random | 20 |"))
+    cells = [c.strip() for c in held_out.split("|")[3:-1]]
+    assert cells[0].startswith("100 (") and cells[1].startswith("75 (")  # Wilson intervals
+    paper = next(line for line in lines if line.startswith("| paper: task 0 | 4 |"))
+    assert [c.strip() for c in paper.split("|")[3:-1]][:2] == ["-", "75"]  # 4 episodes: no CI
+    ends = next(line for line in lines if line.startswith("| held-out: random | |"))
+    assert "0 / 5 / 0" in ends and "10 / 0 / 0" in ends  # ibvs's time-outs, a-s0's collisions
+
+
+def test_the_table_takes_an_order_and_renames():
+    table = results_table(_rows(), policies=["mine", "ibvs"], renames={"a-s0": "mine"})
+    assert table.splitlines()[0] == "| suite: variant | episodes | `mine` | `ibvs` |"
+
+
+def test_the_seeds_table_is_rliables_iqm():
+    text = seeds_table(_rows(), {"a": ["a-s0", "a-s1"]})
+    point, low, high = iqm_interval([[0.5, 0.6], [1.0, 0.5]])
+    last = text.splitlines()[-1]
+    assert last == f"| all | stratified over 2 variants | | {point:.0%} | {low:.0%}-{high:.0%} |"
+    with pytest.raises(ValueError, match="no rows for policy 'nope'"):
+        seeds_table(_rows(), {"b": ["nope"]})
+    with pytest.raises(ValueError, match="unknown tolerance"):
+        seeds_table(_rows(), {"a": ["a-s0"]}, tolerance="1cm")
+
+
+def test_bad_rows_are_named(tmp_path: Path):
+    bad = tmp_path / "rows.json"
+    bad.write_text('{"policy": 1}')
+    with pytest.raises(ValueError, match=r"rows\.json: expected a JSON list"):
+        load_rows([bad])
+    bad.write_text('[{"policy": "x"}]')
+    with pytest.raises(ValueError, match=r"rows.json: row 0 has no \['suite'"):
+        load_rows([bad])
+    with pytest.raises(ValueError, match="no such file"):
+        load_rows([tmp_path / "missing.json"])
+
+
+def test_the_command_writes_the_report_and_curves(tmp_path: Path, capsys):
+    rows = tmp_path / "episodes.json"
+    rows.write_text(json.dumps(_rows()))
+    run = tmp_path / "run"
+    run.mkdir()
+    (run / "progress.csv").write_text("round,env_steps,success_rate\n0,100,0.4\n1,200,0.8\n")
+    (run / "metadata.json").write_text('{"best_round": 1}')
+    out = tmp_path / "report"
+    code = main(
+        [
+            "report", str(rows), "--seeds", "a=a-s0,a-s1", "--curves", f"one={run}",
+            "--out", str(out),
+        ]
+    )  # fmt: skip
+    assert code == 0
+    text = (out / "report.md").read_text()
+    assert "| held-out: random | 20 |" in text and "## Across training seeds" in text
+    assert "one: 40% 80%" in text
+    assert (out / "dagger-curves.png").stat().st_size > 1000
+    assert main(["report", str(rows), "--seeds", "oops"]) == 2
+    assert "--seeds takes NAME=VALUE" in capsys.readouterr().err
