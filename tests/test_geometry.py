@@ -225,3 +225,19 @@ def test_relative_pose_agrees_with_world_to_camera_and_wraps_the_yaw() -> None:
         np.testing.assert_allclose(rel[k, :2], in_camera[:2], atol=1e-12)
     assert np.all((rel[:, 2] >= -np.pi) & (rel[:, 2] < np.pi))
     np.testing.assert_allclose(relative_pose(frames, frames), 0.0, atol=1e-12)
+
+
+@SETTINGS
+@given(
+    st.floats(-50, 50), st.floats(-50, 50), st.floats(-10, 10),
+    st.floats(-50, 50), st.floats(-50, 50), st.floats(-10, 10),
+)  # fmt: skip
+def test_pose_in_frame_is_relative_pose_for_one_pair(fx, fy, fyaw, px, py, pyaw) -> None:
+    from radial_ibvs_gym.geometry import pose_in_frame, relative_pose
+
+    frame, pose = np.array([fx, fy, fyaw]), np.array([px, py, pyaw])
+    got = np.array(pose_in_frame(frame, pose))
+    np.testing.assert_allclose(got, relative_pose(frame, pose), rtol=0, atol=1e-12)
+    assert -np.pi <= got[2] < np.pi
+    # a frame's own pose is its origin
+    np.testing.assert_allclose(pose_in_frame(frame, frame), 0.0, atol=1e-12)

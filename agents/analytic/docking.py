@@ -29,6 +29,8 @@ import math
 import numpy as np
 from numpy.typing import NDArray
 
+from radial_ibvs_gym.geometry import pose_in_frame
+
 __all__ = ["goal_frame", "in_docking_cone", "line_docking", "ramp", "turn_in_place"]
 
 F64 = NDArray[np.float64]
@@ -63,10 +65,7 @@ def goal_frame(pose: F64, goal: F64) -> tuple[float, float, float]:
         ``(x_g, y_g, phi)``: the position along and to the left of the goal heading, metres,
         and the heading minus the goal heading wrapped to ``[-pi, pi)``, radians.
     """
-    dx, dy = float(pose[0]) - float(goal[0]), float(pose[1]) - float(goal[1])
-    c, s = math.cos(float(goal[2])), math.sin(float(goal[2]))
-    phi = (float(pose[2]) - float(goal[2]) + math.pi) % (2.0 * math.pi) - math.pi
-    return c * dx + s * dy, -s * dx + c * dy, phi
+    return pose_in_frame(goal, pose)
 
 
 def in_docking_cone(x_g: float, y_g: float, cone: float, band: float) -> bool:

@@ -40,6 +40,7 @@ from agents.analytic.path_planning import (
     segment_free,
 )
 from agents.analytic.pose_oracle import PoseOracle
+from radial_ibvs_gym.geometry import pose_in_frame
 from radial_ibvs_gym.physics import RobotConfig
 
 __all__ = ["PLANNING_EXTRA", "MapPlanner", "NearGoalRules", "Plan", "plan_path", "segment_free"]
@@ -270,7 +271,7 @@ class MapPlanner:
         goal = plan.waypoints[-1]
         dx, dy = float(goal[0]) - x, float(goal[1]) - y
         distance = math.hypot(dx, dy)
-        along = dx * math.cos(yaw) + dy * math.sin(yaw)  # the goal's foot on the heading line
+        along = pose_in_frame(pose, self._goal_pose(plan))[0]  # the goal's foot on the heading
         # the alignment: turn to the goal heading, drive to the foot (never farther from the goal)
         heading = _wrap(plan.goal_yaw - yaw)
         omega_align = math.copysign(

@@ -14,7 +14,7 @@ import numpy as np
 
 from agents.analytic.ibvs_maths import park_command
 from agents.analytic.smooth_control import SmoothControlLaw, ego_polar
-from radial_ibvs_gym.geometry import wrap_angle_scalar
+from radial_ibvs_gym.geometry import pose_in_frame
 from radial_ibvs_gym.physics import RobotConfig
 
 __all__ = ["PoseOracle"]
@@ -125,12 +125,10 @@ class PoseOracle:
 
     def _act(self, pose: np.ndarray, goal: np.ndarray) -> tuple[float, float]:
         v_max, w_max = self.robot.max_linear_speed, self.robot.max_angular_speed
-        c, s = math.cos(pose[2]), math.sin(pose[2])
-        dx, dy = goal[0] - pose[0], goal[1] - pose[1]
-        target = np.array([c * dx + s * dy, -s * dx + c * dy])  # the goal in the robot frame
-        gamma = wrap_angle_scalar(float(goal[2] - pose[2]))
+        x, y, gamma = pose_in_frame(pose, goal)  # the goal in the robot frame
+        target = np.array([x, y])
         if self.law is not None:
-            r = math.hypot(dx, dy)
+            r = math.hypot(goal[0] - pose[0], goal[1] - pose[1])
             if r < self.stop_radius and abs(gamma) < self.stop_heading:
                 return 0.0, 0.0
             reverse = self.allow_backward and target[0] < 0.0  # the goal is behind

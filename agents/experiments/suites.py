@@ -15,7 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 from typing import Any
 
-__all__ = ["HELD_OUT_SEED", "SUITES", "Variant", "imperfect_cameras", "suite_variants"]
+__all__ = ["HELD_OUT_SEED", "SUITES", "Variant", "suite_variants"]
 
 _MIRROR_A = {"mirror": "A", "non_central_offset": 0.01}  # paper-sim's camera
 #: the detected-points set-ups: paper-sim's room is 15.6 m wide, so larger beacons and images
@@ -190,29 +190,3 @@ def suite_variants(names: list[str] | tuple[str, ...]) -> list[Variant]:
     if unknown:
         raise ValueError(f"unknown suite(s) {unknown}; valid: {list(SUITES)}")
     return [variant for name in names for variant in SUITES[name]]
-
-
-def imperfect_cameras(
-    labels: list[str] | tuple[str, ...] | None = None,
-) -> dict[str, dict[str, Any]]:
-    """Return the ``imperfect`` suite's ``gym.make`` arguments by variant label (scenario too).
-
-    ``"ideal"`` names the same rooms through the ideal camera; ``labels=None``: every variant,
-    ``"ideal"`` last. For diagnostics that run their own policies through the suite's cameras
-    (``research/diagnostics/teacher_through_camera.py``).
-
-    Raises
-    ------
-    ValueError
-        For an unknown label (the message lists the valid ones).
-    """
-    table = {v.label: {"scenario": v.scenario, **v.overrides} for v in SUITES["imperfect"]}
-    first = next(iter(table.values()))
-    camera = {k: v for k, v in first["camera"].items() if k != "imperfections"}
-    table["ideal"] = {**first, "camera": camera}
-    if labels is None:
-        return table
-    unknown = [label for label in labels if label not in table]
-    if unknown:
-        raise ValueError(f"unknown imperfect variant(s) {unknown}; valid: {list(table)}")
-    return {label: table[label] for label in labels}

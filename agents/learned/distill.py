@@ -44,6 +44,7 @@ from agents.learned.distill_config import (
 )
 from agents.learned.extractors import POSE_HISTORY_KEYS, error_key_of, raw_keys
 from agents.learned.history import HistoryConfig, HistoryStack, history_space
+from radial_ibvs_gym.geometry import relative_pose
 
 __all__ = [
     "DaggerConfig",
@@ -320,12 +321,9 @@ def goal_in_robot_frame(obs: Mapping[str, np.ndarray]) -> np.ndarray:
     """
     robot = np.asarray(obs["robot_pose"], dtype=np.float64).reshape(-1, 3)
     goal = np.asarray(obs["goal_pose"], dtype=np.float64).reshape(-1, 3)
-    dx, dy = goal[:, 0] - robot[:, 0], goal[:, 1] - robot[:, 1]
-    c, s = np.cos(robot[:, 2]), np.sin(robot[:, 2])
-    error = goal[:, 2] - robot[:, 2]
-    out = np.stack(
-        [(c * dx + s * dy) / 3.0, (c * dy - s * dx) / 3.0, np.cos(error), np.sin(error)], 1
-    )
+    x, y = relative_pose(robot, goal)[:, :2].T  # the goal in the robot's frame
+    error = goal[:, 2] - robot[:, 2]  # not wrapped: only its cosine and sine are used
+    out = np.stack([x / 3.0, y / 3.0, np.cos(error), np.sin(error)], 1)
     return out.astype(np.float32)
 
 

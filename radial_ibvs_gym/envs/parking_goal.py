@@ -16,6 +16,7 @@ from radial_ibvs_gym.envs.parking import ParkingEnv
 from radial_ibvs_gym.envs.parking_vector import ParkingVectorEnv
 
 __all__ = [
+    "GoalReward",
     "ParkingGoalEnv",
     "ParkingGoalVectorEnv",
     "check_goal_arguments",
@@ -53,7 +54,53 @@ def goal_observation_space(config: ParkingConfig) -> spaces.Dict:
     )
 
 
-class ParkingGoalEnv(ParkingEnv):
+class GoalReward:
+    """``ParkingGoal-v1``'s reward, shared by the scalar and the vector env (for HER).
+
+    Reads the env's ``config.weights``, ``goal_reward_power`` and ``goal_image_tolerance``.
+    """
+
+    config: ParkingConfig
+    goal_reward_power: float
+    goal_image_tolerance: float
+
+    def reward_terms_of(
+        self, achieved_goal: np.ndarray, desired_goal: np.ndarray, info: Any
+    ) -> dict[str, np.ndarray]:
+        """Return the named terms of :meth:`compute_reward` (a step's ``info["reward_terms"]``)."""
+        return rules.goal_reward_terms(
+            achieved_goal,
+            desired_goal,
+            info,
+            self.config.weights,
+            self.goal_reward_power,
+            self.goal_image_tolerance,
+        )
+
+    def compute_reward(
+        self, achieved_goal: np.ndarray, desired_goal: np.ndarray, info: Any
+    ) -> np.ndarray:
+        """Return the step reward for (batched) goals: the sum of :meth:`reward_terms_of`.
+
+        Parameters
+        ----------
+        achieved_goal, desired_goal
+            ``(..., 2M)`` flattened normalised image points (batched for HER).
+        info
+            The step's ``info`` (``collision`` and ``lost`` are read), a vector env's batched
+            ``info``, or a sequence of per-step ``info`` dicts (HER); ``None`` counts no
+            collision and no loss.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(...)`` rewards.
+        """
+        terms = self.reward_terms_of(achieved_goal, desired_goal, info)
+        return np.asarray(sum(terms.values()))
+
+
+class ParkingGoalEnv(GoalReward, ParkingEnv):
     """``RadialIBVS/ParkingGoal-v1``: the goal-conditioned task, all reward in ``compute_reward``.
 
     Same dynamics, actions, episode end, ``info`` and arguments as :class:`ParkingEnv`. The
@@ -114,41 +161,6 @@ class ParkingGoalEnv(ParkingEnv):
         """``D`` of the goals ``(..., 2M)``: :func:`~radial_ibvs_gym.envs.rules.image_distance`."""
         return rules.image_distance(achieved_goal, desired_goal)
 
-    def reward_terms_of(
-        self, achieved_goal: np.ndarray, desired_goal: np.ndarray, info: Any
-    ) -> dict[str, np.ndarray]:
-        """Return the named terms of :meth:`compute_reward` (a step's ``info["reward_terms"]``)."""
-        return rules.goal_reward_terms(
-            achieved_goal,
-            desired_goal,
-            info,
-            self.config.weights,
-            self.goal_reward_power,
-            self.goal_image_tolerance,
-        )
-
-    def compute_reward(
-        self, achieved_goal: np.ndarray, desired_goal: np.ndarray, info: Any
-    ) -> np.ndarray:
-        """Return the step reward for (batched) goals: the sum of :meth:`reward_terms_of`.
-
-        Parameters
-        ----------
-        achieved_goal, desired_goal
-            ``(..., 2M)`` flattened normalised image points (batched for HER).
-        info
-            The step's ``info`` (``collision`` and ``lost`` are read), a vector env's batched
-            ``info``, or a sequence of per-step ``info`` dicts (HER); ``None`` counts no
-            collision and no loss.
-
-        Returns
-        -------
-        numpy.ndarray
-            ``(...)`` rewards.
-        """
-        terms = self.reward_terms_of(achieved_goal, desired_goal, info)
-        return np.asarray(sum(terms.values()))
-
     def step(
         self, action: np.ndarray
     ) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
@@ -171,7 +183,7 @@ class ParkingGoalEnv(ParkingEnv):
         return seen.goal_observation(obs["points"], obs["visible"], obs["goal_points"])
 
 
-class ParkingGoalVectorEnv(ParkingVectorEnv):
+class ParkingGoalVectorEnv(GoalReward, ParkingVectorEnv):
     """``RadialIBVS/ParkingGoal-v1`` for ``num_envs`` robots (all reward in ``compute_reward``).
 
     Same as :class:`ParkingVectorEnv` with the observation and reward of
@@ -198,25 +210,6 @@ class ParkingGoalVectorEnv(ParkingVectorEnv):
 
     def _single_observation_space(self) -> spaces.Space[Any]:
         return goal_observation_space(self.config)
-
-    def reward_terms_of(
-        self, achieved_goal: NDArray[Any], desired_goal: NDArray[Any], info: Any
-    ) -> dict[str, NDArray[np.float64]]:
-        """Return the named terms of :meth:`compute_reward` (batched goals and infos)."""
-        return rules.goal_reward_terms(
-            achieved_goal,
-            desired_goal,
-            info,
-            self.config.weights,
-            self.goal_reward_power,
-            self.goal_image_tolerance,
-        )
-
-    def compute_reward(
-        self, achieved_goal: NDArray[Any], desired_goal: NDArray[Any], info: Any
-    ) -> NDArray[np.float64]:
-        """Return the scalar env's ``compute_reward`` (batched goals and infos)."""
-        return np.asarray(sum(self.reward_terms_of(achieved_goal, desired_goal, info).values()))
 
     def _observation(self, idx: Any = slice(None)) -> dict[str, NDArray[Any]]:
         points = self._points[idx]

@@ -1,7 +1,7 @@
 """SE(2)/SE(3) helpers and angle wrapping (pure numpy)."""
 
 from radial_ibvs_gym.geometry.angles import wrap_angle, wrap_angle_scalar
-from radial_ibvs_gym.geometry.se2 import relative_pose, world_to_camera
+from radial_ibvs_gym.geometry.se2 import pose_in_frame, relative_pose, world_to_camera
 from radial_ibvs_gym.geometry.transforms import (
     apply_twist_to_points,
     rot2,
@@ -15,6 +15,7 @@ from radial_ibvs_gym.geometry.transforms import (
 
 __all__ = [
     "apply_twist_to_points",
+    "pose_in_frame",
     "relative_pose",
     "rot2",
     "rot_x",

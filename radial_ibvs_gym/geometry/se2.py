@@ -3,14 +3,15 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from radial_ibvs_gym._validation import as_float_array, check_finite, check_last_dim
-from radial_ibvs_gym.geometry.angles import wrap_angle
+from radial_ibvs_gym.geometry.angles import wrap_angle, wrap_angle_scalar
 
-__all__ = ["relative_pose", "world_to_camera"]
+__all__ = ["pose_in_frame", "relative_pose", "world_to_camera"]
 
 
 def world_to_camera(
@@ -89,3 +90,27 @@ def relative_pose(frame: ArrayLike, pose: ArrayLike) -> NDArray[np.float64]:
     c, s = np.cos(f[..., 2]), np.sin(f[..., 2])
     yaw = wrap_angle(p[..., 2] - f[..., 2])
     return np.stack(np.broadcast_arrays(c * dx + s * dy, -s * dx + c * dy, yaw), axis=-1)
+
+
+def pose_in_frame(frame: Any, pose: Any) -> tuple[float, float, float]:
+    """Express one planar pose in the frame of another: :func:`relative_pose` for one pair.
+
+    Scalar trigonometry (``math``), for the policies' per-step hot paths; the same formula as
+    :func:`relative_pose`, without its validation.
+
+    Parameters
+    ----------
+    frame, pose
+        ``(3,)`` poses ``(x, y, yaw)``, world frame, metres and radians.
+
+    Returns
+    -------
+    tuple of float
+        ``pose``'s position in ``frame`` (x along ``frame``'s heading, y to its left; metres)
+        and its yaw minus ``frame``'s, wrapped to ``[-pi, pi)`` (radians).
+    """
+    fx, fy, fyaw = (float(v) for v in frame[:3])
+    px, py, pyaw = (float(v) for v in pose[:3])
+    dx, dy = px - fx, py - fy
+    c, s = math.cos(fyaw), math.sin(fyaw)
+    return c * dx + s * dy, -s * dx + c * dy, wrap_angle_scalar(pyaw - fyaw)

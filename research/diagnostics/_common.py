@@ -1,4 +1,4 @@
-"""What several diagnostics share: the goal's pose solved from one image pair, numpy in and out.
+"""What several diagnostics share: the goal's pose from one image pair; the imperfect cameras.
 
 The diagnostics run as scripts (``python research/diagnostics/NAME.py``), so this folder is on
 their ``sys.path`` and they import this module as ``_common``.
@@ -10,9 +10,10 @@ from typing import Any
 
 import numpy as np
 
+from agents.experiments.suites import SUITES
 from agents.learned.pose_layer import solve_goal_pose
 
-__all__ = ["solve_one"]
+__all__ = ["imperfect_cameras", "solve_one"]
 
 
 def solve_one(
@@ -51,3 +52,29 @@ def solve_one(
         torch.from_numpy(seen.astype(np.float64))[None],
     )
     return pose[0].numpy(), bool(valid[0])
+
+
+def imperfect_cameras(
+    labels: list[str] | tuple[str, ...] | None = None,
+) -> dict[str, dict[str, Any]]:
+    """Return the ``imperfect`` suite's ``gym.make`` arguments by variant label (scenario too).
+
+    ``"ideal"`` names the same rooms through the ideal camera; ``labels=None``: every variant,
+    ``"ideal"`` last. For the diagnostics that run their own policies through the suite's
+    cameras (``teacher_through_camera.py``, ``goal_image_limit.py``).
+
+    Raises
+    ------
+    ValueError
+        For an unknown label (the message lists the valid ones).
+    """
+    table = {v.label: {"scenario": v.scenario, **v.overrides} for v in SUITES["imperfect"]}
+    first = next(iter(table.values()))
+    camera = {k: v for k, v in first["camera"].items() if k != "imperfections"}
+    table["ideal"] = {**first, "camera": camera}
+    if labels is None:
+        return table
+    unknown = [label for label in labels if label not in table]
+    if unknown:
+        raise ValueError(f"unknown imperfect variant(s) {unknown}; valid: {list(table)}")
+    return {label: table[label] for label in labels}

@@ -31,10 +31,10 @@ from typing import Any
 
 import gymnasium as gym
 import numpy as np
-from _common import solve_one  # research/diagnostics/_common.py
+from _common import imperfect_cameras, solve_one  # research/diagnostics/_common.py
 
 from agents.analytic import make_analytic
-from agents.experiments.suites import HELD_OUT_SEED, imperfect_cameras
+from agents.experiments.suites import HELD_OUT_SEED
 from agents.learned.distill_config import PRIVILEGED, load_dagger_config
 from agents.runner import run_episode
 

@@ -11,12 +11,12 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-from agents.experiments.suites import SUITES, imperfect_cameras
+from agents.experiments.suites import SUITES
 
 DIAGNOSTICS = Path(__file__).resolve().parents[1] / "diagnostics"
 sys.path.insert(0, str(DIAGNOSTICS))  # the scripts import their shared _common, as they run
 
-from _common import solve_one  # noqa: E402
+from _common import imperfect_cameras, solve_one  # noqa: E402
 
 
 def _script():
