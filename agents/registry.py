@@ -83,7 +83,8 @@ def make_policy(name: str, *, trust_pickle: bool = False, **kwargs: Any) -> Poli
     name
         One of :data:`POLICY_NAMES` (``ibvs``, ``ibvs-current``, ``ibvs-mean``,
         ``ibvs-no-frame-change``, ``oracle``, ``random``), a shipped model's name
-        (:func:`agents.learned.shipped_models`, e.g. ``ppo-residual``) or a model directory.
+        (:func:`agents.learned.shipped_models`, e.g. ``ppo-residual``) or a model directory's
+        path (``./my-model``: a bare name is never a folder, so none can shadow a shipped one).
     trust_pickle
         For a model directory that holds only a stable-baselines3 ``model.zip``: load it
         through its pickles (:func:`agents.learned.load`). Ignored by the other policies.
@@ -100,12 +101,14 @@ def make_policy(name: str, *, trust_pickle: bool = False, **kwargs: Any) -> Poli
     if name in _FACTORIES:
         return _FACTORIES[name](**kwargs)
     from agents.learned import load, shipped_models
+    from agents.learned.loading import is_bare_name
 
-    if name in shipped_models() or Path(name).exists():
+    if name in shipped_models() or not is_bare_name(name):
         if kwargs:
             raise ValueError(f"a learned model takes no arguments, got {sorted(kwargs)}")
         return load(name, trust_pickle=trust_pickle)
     if name in RENAMED:
         raise ValueError(f"the policy {name!r} is now called {RENAMED[name]!r}")
     valid = [*POLICY_NAMES, *shipped_models()]
-    raise ValueError(f"unknown policy {name!r}; valid: {valid} or a model directory")
+    hint = f"; for the folder of that name, give its path: ./{name}" if Path(name).exists() else ""
+    raise ValueError(f"unknown policy {name!r}; valid: {valid} or a model directory's path{hint}")

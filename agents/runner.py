@@ -24,6 +24,8 @@ import gymnasium as gym
 import numpy as np
 from numpy.typing import NDArray
 
+from radial_ibvs_gym.registration import check_env_id
+
 __all__ = [
     "DEFAULT_ENV_ID",
     "TOLERANCES",
@@ -98,7 +100,8 @@ def make_env(
         For a bad keyword, or a learned model whose observation space differs from the env's
         (the env is closed first).
     """
-    env_id = env_id or getattr(policy, "env_id", None) or DEFAULT_ENV_ID
+    given = env_id or getattr(policy, "env_id", None) or DEFAULT_ENV_ID
+    env_id = check_env_id(given, "env_id" if env_id else f"{policy!r}: env_id")
     env = gym.make(env_id, **make_kwargs, **env_kwargs_for(policy, scenario, overrides))
     if hasattr(policy, "check_observation_space"):
         try:

@@ -205,6 +205,50 @@ def test_a_killed_ray_worker_is_retried_and_the_rows_are_complete(
     assert len(list(tmp_path.glob("*.json"))) == 8
 
 
+def test_ray_without_authentication_is_refused(monkeypatch) -> None:
+    monkeypatch.setenv("RAY_AUTH_MODE", "disabled")
+    with pytest.raises(ValueError, match="RAY_AUTH_MODE='disabled' turns Ray's token auth"):
+        import_ray(local=True)
+
+
+_DRIVER = """
+import os, sys, time
+from agents.experiments.backends import RayBackend
+RayBackend(num_cpus=1)
+print("ready", flush=True)
+time.sleep(600)
+"""
+
+
+@pytest.mark.slow
+def test_a_private_ray_instance_is_on_the_loopback_and_dies_with_a_killed_driver() -> None:
+    """Even with RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER=1 preset; after SIGKILL of the driver."""
+    import subprocess
+
+    if importlib.util.find_spec("ray") is None:
+        pytest.skip("Ray is not installed")
+    before = _ray_pids()
+    env = {**os.environ, "RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER": "1"}
+    env["PYTHONPATH"] = os.pathsep.join([str(Path(__file__).resolve().parents[1]), *sys.path])
+    driver = subprocess.Popen(
+        [sys.executable, "-c", _DRIVER], env=env, stdout=subprocess.PIPE, text=True
+    )
+    try:
+        assert driver.stdout is not None and driver.stdout.readline().strip() == "ready"
+        ours = _ray_pids() - before
+        assert ours, "no Ray process found"
+        for ip, port in _listening_sockets(ours):
+            mapped = getattr(ip, "ipv4_mapped", None)
+            assert ip.is_loopback or (mapped is not None and mapped.is_loopback), (ip, port)
+    finally:
+        driver.kill()
+        driver.wait()
+    deadline = time.monotonic() + 20  # the watchdog polls every 0.5 s; Ray alone took 52-72 s
+    while _ray_pids() & ours and time.monotonic() < deadline:
+        time.sleep(0.2)
+    assert not _ray_pids() & ours, "Ray processes outlived their killed driver"
+
+
 # --- helpers --------------------------------------------------------------------------------
 def _ray_processes() -> list[tuple[int, str]]:
     """(pid, command line) of this user's Ray processes (workers show their task's name)."""

@@ -164,10 +164,14 @@ def test_bad_actions_and_options_are_named() -> None:
     with pytest.raises(RuntimeError, match="reset"):
         env.step(np.zeros(2))
     env.reset(seed=0)
-    with pytest.raises(ValueError, match="action must be two finite numbers"):
+    with pytest.raises(ValueError, match="action must be two finite real numbers"):
         env.step(np.array([np.nan, 0.0]))
-    with pytest.raises(ValueError, match="action must be two finite numbers"):
+    with pytest.raises(ValueError, match="action must be two finite real numbers"):
         env.step(np.array([0.1, 0.2, 0.3]))
+    with pytest.raises(ValueError, match="got an array of complex128"):
+        env.step(np.array([0.1 + 0.5j, 0.2]))  # numpy would drop the imaginary part
+    with pytest.raises(ValueError, match="got an array of bool"):
+        env.step(np.array([True, False]))
     with pytest.raises(ValueError, match=r"unknown reset option\(s\) \['strat'\]"):
         env.reset(options={"strat": [1, 1, 0]})
     with pytest.raises(ValueError, match="into a wall"):

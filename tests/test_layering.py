@@ -156,6 +156,7 @@ AGENT_LOOSE = {
     "agents.io": "utilities",
     "agents.plotting": "utilities",
     "agents.stats": "utilities",
+    "agents.untrusted": "utilities",
     "agents": "policies",
     "agents.registry": "policies",
     "agents.runner": "policies",

@@ -175,8 +175,14 @@ def test_bad_config_values_are_named(tmp_path: Path) -> None:
     path.write_text("RadialIBVS/Parking-v0: {}\nradial_ibvs_gym:\n  evalfreq: 3\n")
     with pytest.raises(ValueError, match="unknown key"):
         load_train_config(path)
-    with pytest.raises(ValueError, match="no section for env id"):
+    with pytest.raises(ValueError, match="'CartPole-v1' is not an env of radial_ibvs_gym"):
         load_train_config(CONFIG, "CartPole-v1")
+    with pytest.raises(ValueError, match="no section for env id"):
+        load_train_config(CONFIG, "RadialIBVS/ParkingImage-v0")
+    # a section named "module:EnvId" would make gym.make import the module: refused by name
+    path.write_text("this:RadialIBVS/Parking-v0: {}\n")
+    with pytest.raises(ValueError, match=r"the section name: .* \(the 'module:' form imports"):
+        load_train_config(path)
     with pytest.raises(ValueError, match="not found"):
         load_train_config(tmp_path / "missing.yaml")
 

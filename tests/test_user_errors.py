@@ -49,5 +49,7 @@ def test_out_of_range_actions_are_clipped_alike_in_scalar_and_vector_envs() -> N
     with pytest.raises(ValueError, match=rf"action must be {ACTION_RULE}".replace("(", r"\(")
                        .replace(")", r"\)").replace("[", r"\[").replace("]", r"\]")):  # fmt: skip
         a.step(np.array([np.nan, 0.0]))
-    with pytest.raises(ValueError, match="env 1: action must be two finite numbers"):
+    with pytest.raises(ValueError, match="env 1: action must be two finite real numbers"):
         venv.step(np.array([[0.0, 0.0], [np.inf, 0.0]]))
+    with pytest.raises(ValueError, match="got an array of complex128"):
+        venv.step(np.array([[0.1j, 0.0], [0.0, 0.0]]))

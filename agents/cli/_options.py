@@ -4,7 +4,26 @@ from __future__ import annotations
 
 from typing import Any
 
-__all__ = ["add_backend_options", "add_trust_model_option"]
+__all__ = ["add_backend_options", "add_trust_model_option", "seed_value"]
+
+
+def seed_value(text: str) -> int:
+    """``--seed``'s type: an integer from 0 to 2**63 - 1 (as Gymnasium and numpy take).
+
+    Raises
+    ------
+    argparse.ArgumentTypeError
+        For anything else (argparse prints it with the option's name and exits with 2).
+    """
+    import argparse
+
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not an integer: {text[:40]!r}") from None
+    if not 0 <= value < 2**63:
+        raise argparse.ArgumentTypeError(f"a seed is an integer from 0 to 2**63 - 1, got {value}")
+    return value
 
 
 def add_trust_model_option(parser: Any) -> None:

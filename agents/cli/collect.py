@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from agents.cli._options import add_trust_model_option
+from agents.cli._options import add_trust_model_option, seed_value
 
 __all__ = ["add_parser", "run"]
 
@@ -27,7 +27,9 @@ def add_parser(sub: Any) -> None:
     parser.add_argument("--policy", required=True, help="policy name or model directory")
     parser.add_argument("--scenario", default="random", help="default: %(default)s")
     parser.add_argument("--episodes", type=int, default=100, help="default: %(default)s")
-    parser.add_argument("--seed", type=int, default=0, help="first seed (default: %(default)s)")
+    parser.add_argument(
+        "--seed", type=seed_value, default=0, help="first seed (default: %(default)s)"
+    )
     parser.add_argument("--out", type=Path, default=Path("outputs/datasets"), help="datasets dir")
     parser.add_argument("--dataset-id", help="Minari id (default: radial-ibvs/POLICY_SCENARIO-v0)")
     parser.add_argument(

@@ -6,6 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from agents.cli._options import seed_value
+
 __all__ = ["add_parser", "run"]
 
 
@@ -25,7 +27,7 @@ def add_parser(sub: Any) -> None:
         ),
     )
     parser.add_argument("--config", type=Path, required=True, help="DAgger YAML file")
-    parser.add_argument("--seed", type=int, default=0, help="default: %(default)s")
+    parser.add_argument("--seed", type=seed_value, default=0, help="default: %(default)s")
     parser.add_argument("--out", type=Path, default=Path("outputs/distill"), help="model directory")
     parser.add_argument("--rounds", type=int, help="default: the config's rounds")
     parser.add_argument(

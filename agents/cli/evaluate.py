@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from agents.cli._options import add_trust_model_option
+from agents.cli._options import add_trust_model_option, seed_value
 
 __all__ = ["add_parser", "run"]
 
@@ -28,7 +28,9 @@ def add_parser(sub: Any) -> None:
     parser.add_argument("--scenario", default="paper-sim", help="default: %(default)s")
     parser.add_argument("--task", type=int, help="task index (default: drawn per episode)")
     parser.add_argument("--episodes", type=int, default=10, help="default: %(default)s")
-    parser.add_argument("--seed", type=int, default=0, help="first seed (default: %(default)s)")
+    parser.add_argument(
+        "--seed", type=seed_value, default=0, help="first seed (default: %(default)s)"
+    )
     parser.add_argument(
         "--env-kwarg",
         action="append",

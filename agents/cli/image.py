@@ -6,6 +6,8 @@ import argparse
 from pathlib import Path
 from typing import Any
 
+from agents.cli._options import seed_value
+
 __all__ = ["add_parser", "run"]
 
 
@@ -21,7 +23,9 @@ def add_parser(sub: Any) -> None:
         ),
     )
     parser.add_argument("--scenario", default="paper-lab", help="default: %(default)s")
-    parser.add_argument("--seed", type=int, default=0, help="episode seed (default: %(default)s)")
+    parser.add_argument(
+        "--seed", type=seed_value, default=0, help="episode seed (default: %(default)s)"
+    )
     parser.add_argument(
         "--out", type=Path, default=Path("outputs/pixels.png"), help="default: %(default)s"
     )

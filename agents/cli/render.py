@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from agents.cli._options import add_trust_model_option
+from agents.cli._options import add_trust_model_option, seed_value
 
 __all__ = ["add_parser", "run"]
 
@@ -21,7 +21,7 @@ def add_parser(sub: Any) -> None:
     parser.add_argument("--policy", required=True, help="policy name or model directory")
     parser.add_argument("--scenario", default="paper-sim", help="default: %(default)s")
     parser.add_argument("--task", type=int, help="task index (default: drawn)")
-    parser.add_argument("--seed", type=int, default=0, help="default: %(default)s")
+    parser.add_argument("--seed", type=seed_value, default=0, help="default: %(default)s")
     parser.add_argument("--out", type=Path, required=True, help="FILE.gif or FILE.mp4")
     parser.add_argument("--fps", type=int, default=10, help="default: %(default)s")
     parser.add_argument("--max-steps", type=int, default=600, help="default: %(default)s")

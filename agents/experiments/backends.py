@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import multiprocessing
 import os
+import subprocess
 import sys
 import threading
 import time
@@ -44,7 +45,9 @@ def import_ray(local: bool = True) -> Any:
     ----------
     local
         A private single-machine instance: its servers bind 127.0.0.1 only (Ray's own
-        single-machine mode, ``RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER=0``).
+        single-machine mode, ``RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER=0``, set whatever the
+        environment held), with token authentication (``RAY_AUTH_MODE=token``; any other
+        value is refused).
 
     Notes
     -----
@@ -56,15 +59,22 @@ def import_ray(local: bool = True) -> Any:
     ------
     ValueError
         When Ray is not installed (the message names the extra to install), or was imported
-        first without the loopback setting (for a private instance).
+        first without the loopback setting, or ``RAY_AUTH_MODE`` turns authentication off
+        (for a private instance).
     """
     os.environ.setdefault("RAY_USAGE_STATS_ENABLED", "0")  # nothing leaves the machine
+    auth = os.environ.get("RAY_AUTH_MODE", "token")
+    if local and auth != "token":
+        raise ValueError(
+            f"RAY_AUTH_MODE={auth[:40]!r} turns Ray's token authentication off; a private "
+            "instance runs only with it on: unset RAY_AUTH_MODE (or set it to 'token')"
+        )
     if "ray" not in sys.modules:
         # token authentication on, and said so explicitly: Ray's documented way to keep it
         # on without its warning (https://docs.ray.io/en/latest/ray-security/token-auth.html)
         os.environ.setdefault("RAY_AUTH_MODE", "token")
-        if local:
-            os.environ.setdefault("RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER", "0")
+        if local:  # forced, whatever the environment held: the loopback only
+            os.environ["RAY_ENABLE_WINDOWS_OR_OSX_CLUSTER"] = "0"
     elif (
         local
         and sys.modules["ray"] is not None
@@ -104,6 +114,36 @@ def start_worker(parent: int, initializer: Callable[[], None] | None = None) -> 
     threading.Thread(target=watch, name="parent-watchdog", daemon=True).start()
     if initializer is not None:
         initializer()
+
+
+def watch_ray_processes(driver: int) -> subprocess.Popen[bytes] | None:
+    """Start a watchdog that kills this private Ray instance's processes if ``driver`` dies.
+
+    Ray's own clean-up runs only when the driver exits normally; after a SIGKILL its raylet,
+    dashboard and runtime-env agents live on for a minute or more, one still listening. The
+    watchdog (a small process of its own session, :mod:`agents.experiments.ray_watchdog`)
+    records the driver's children now, polls every :data:`WATCHDOG_INTERVAL_S`, and once the
+    driver is gone kills them and everything under them; it exits by itself once they are
+    gone (after :meth:`RayBackend.close`).
+
+    Returns
+    -------
+    subprocess.Popen or None
+        The watchdog, or ``None`` when the driver has no child processes to watch.
+    """
+    import psutil  # a dependency of Ray
+
+    children = [p.pid for p in psutil.Process(driver).children(recursive=True)]
+    if not children:
+        return None
+    command = [sys.executable, "-m", "agents.experiments.ray_watchdog", str(driver)]
+    return subprocess.Popen(
+        [*command, *map(str, children)],
+        start_new_session=True,  # a Ctrl-C to the driver's group does not stop it first
+        stdin=subprocess.DEVNULL,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.DEVNULL,
+    )
 
 
 class LocalBackend:
@@ -195,7 +235,9 @@ class RayBackend:
                     include_dashboard=False,
                     log_to_driver=False,
                     configure_logging=False,
+                    _node_ip_address="127.0.0.1",
                 )
+                watch_ray_processes(os.getpid())
             else:
                 self.ray.init(address=address, log_to_driver=False, configure_logging=False)
 

@@ -33,6 +33,7 @@ import numpy as np
 from agents import POLICY_NAMES, make_policy
 from agents.experiments.jobs import Job, JobResult
 from agents.io import write_json
+from agents.untrusted import read_json, sha256_file
 from radial_ibvs_gym import __version__
 
 __all__ = ["ChunkStore", "job_key"]
@@ -73,16 +74,25 @@ def _model_digest(policy: str) -> str | None:
             total = hashlib.sha256()
             for path in sorted(p for p in directory.rglob("*") if p.is_file()):
                 stat = path.stat()
-                digest = _file_digest(str(path.resolve()), stat.st_mtime_ns, stat.st_size)
+                digest = _file_digest(str(path), str(directory), stat.st_mtime_ns, stat.st_size)
                 total.update(f"{path.relative_to(directory).as_posix()}\0{digest}\0".encode())
             return total.hexdigest()
     return None
 
 
 @functools.lru_cache(maxsize=256)
-def _file_digest(path: str, mtime_ns: int, size: int) -> str:
-    """Hash the file (SHA-256; cached while its time stamp and size stay the same)."""
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+def _file_digest(path: str, folder: str, mtime_ns: int, size: int) -> str:
+    """Hash a model's file (SHA-256; cached while its time stamp and size stay the same).
+
+    Read in pieces, at most ``MAX_WEIGHTS_BYTES``, and only inside the model's folder.
+    """
+    return sha256_file(path, folder)
+
+
+def _content_digest(key: str, data: dict[str, Any]) -> str:
+    """SHA-256 of a chunk's content and its job key (what a stored chunk must match)."""
+    text = json.dumps({"key": key, **data}, sort_keys=True, allow_nan=True)
+    return hashlib.sha256(text.encode()).hexdigest()
 
 
 def _policy_settings(policy: str) -> dict[str, Any] | None:
@@ -112,6 +122,10 @@ def _scenario_content(scenario: str) -> str:
     return repr(load_scenario(scenario).config)
 
 
+#: the largest chunk file read back (a chunk holds its episodes' rows and paths)
+MAX_CHUNK_BYTES = 64 << 20
+
+
 class ChunkStore:
     """The finished chunks of a benchmark, one JSON file each under ``directory``.
 
@@ -137,12 +151,15 @@ class ChunkStore:
         if not path.is_file():
             return None
         try:
-            data = json.loads(path.read_text())
+            data = read_json(path, self.directory, MAX_CHUNK_BYTES)
+            content = {k: data[k] for k in ("rows", "paths", "skipped")}
+            if data.get("digest") != _content_digest(path.stem, content):
+                raise ValueError("its digest does not match its content")
             paths = [(p[0], np.asarray(p[1], dtype=np.float64)) for p in data["paths"]]
-            result = JobResult(job, list(data["rows"]), paths, data.get("skipped"))
+            result = JobResult(job, list(data["rows"]), paths, data["skipped"])
             problem = _check(result)
         except (OSError, ValueError, KeyError, TypeError, IndexError, AttributeError) as error:
-            problem = f"unreadable: {type(error).__name__}"
+            problem = f"unreadable: {type(error).__name__}: {str(error)[:120]}"
         if problem is None:
             return result
         if self.notify is not None:
@@ -156,7 +173,9 @@ class ChunkStore:
             "paths": [[task, np.asarray(xy).tolist()] for task, xy in result.paths],
             "skipped": result.skipped,
         }
-        return write_json(self.path(result.job), data)
+        path = self.path(result.job)
+        data["digest"] = _content_digest(path.stem, json.loads(json.dumps(data)))
+        return write_json(path, data)
 
 
 def _check(result: JobResult) -> str | None:

@@ -12,6 +12,7 @@ from agents.analytic import make_analytic
 from agents.learned.extractors import ERROR_KEYS
 from agents.learned.history import HistoryConfig
 from radial_ibvs_gym.config import read_yaml_with_base
+from radial_ibvs_gym.registration import check_env_id
 
 __all__ = ["ACTIVATIONS", "EXTRACTORS", "PRIVILEGED", "DaggerConfig", "load_dagger_config"]
 
@@ -208,7 +209,9 @@ def load_dagger_config(path: Path | str) -> DaggerConfig:
             if not isinstance(section[key], Mapping):
                 raise ValueError(f"{where}.{key} must be a mapping, got {section[key]!r}")
             values[key] = dict(section[key])
-    for key in ("env_id", "teacher", "initial_dataset"):
+    if "env_id" in section:
+        values["env_id"] = check_env_id(section["env_id"], f"{where}.env_id")
+    for key in ("teacher", "initial_dataset"):
         if key in section:
             values[key] = str(section[key])
     if "extractor" in section:

@@ -12,7 +12,6 @@ normalising observations exactly as training did.
 
 from __future__ import annotations
 
-import json
 import zipfile
 from pathlib import Path
 from typing import Any
@@ -27,6 +26,8 @@ from agents.learned.model_files import (
     load_policy,
     read_normalization,
 )
+from agents.untrusted import read_json
+from radial_ibvs_gym.registration import check_env_id
 
 __all__ = ["MODELS_DIR", "LearnedPolicy", "load", "shipped_models"]
 
@@ -142,6 +143,50 @@ def shipped_models() -> list[str]:
     return sorted(p.name for p in MODELS_DIR.iterdir() if has_policy_files(p))
 
 
+def is_bare_name(name: str | Path) -> bool:
+    """Whether ``name`` is a bare name (``my-model``), not a path (``./my-model``, ``a/b``)."""
+    text = str(name)
+    return (
+        not isinstance(name, Path)
+        and "/" not in text
+        and "\\" not in text
+        and text
+        not in (
+            ".",
+            "..",
+        )
+    )
+
+
+def resolve_model(name_or_path: str | Path) -> Path:
+    """Return the directory (or ``.zip``) that a model name or path means.
+
+    A bare name (no ``/``) is a shipped model's name, and only that: a folder of the current
+    directory is loaded by a path (``./my-model``). So a folder that happens to be named like
+    a shipped model never replaces it, and a bare name never loads a folder silently.
+
+    Raises
+    ------
+    ValueError
+        For an unknown name (listing the shipped ones; pointing at ``./name`` when such a
+        folder exists) or a path that does not exist.
+    """
+    label = repr(str(name_or_path))[:200]
+    if is_bare_name(name_or_path):
+        if str(name_or_path) in shipped_models():
+            return MODELS_DIR / str(name_or_path)
+        hint = (
+            f"; to load the folder of that name, give its path: ./{name_or_path}"
+            if Path(name_or_path).exists()
+            else ""
+        )
+        raise ValueError(f"unknown model {label}: not a shipped model {shipped_models()}{hint}")
+    path = Path(name_or_path)
+    if not path.exists():
+        raise ValueError(f"model {label}: no such file or directory")
+    return path
+
+
 #: why a ``model.zip`` alone is refused, and how to opt in
 _PICKLE_WARNING = (
     "a stable-baselines3 model.zip keeps part of its data as pickled Python objects, which "
@@ -163,8 +208,9 @@ def load(name_or_path: str | Path, *, trust_pickle: bool = False) -> Any:
     Parameters
     ----------
     name_or_path
-        A name from :func:`shipped_models`, or a model directory (what ``radial-ibvs train``
-        writes), or a ``model.zip`` inside one.
+        A name from :func:`shipped_models`, or the path of a model directory (what
+        ``radial-ibvs train`` writes; ``./name`` for one in the current directory: a bare name
+        is always a shipped model's), or of a ``model.zip`` inside one.
     trust_pickle
         Allow loading a stable-baselines3 ``model.zip`` through its pickles, where the
         directory has no ``policy.safetensors``: only for files from a source you trust.
@@ -182,27 +228,24 @@ def load(name_or_path: str | Path, *, trust_pickle: bool = False) -> Any:
         For an unknown name (the message lists the shipped ones), a missing or corrupt file,
         or a pickled model without ``trust_pickle``.
     """
-    path = Path(name_or_path)
+    path = resolve_model(name_or_path)
     label = repr(str(name_or_path))[:200]
-    if not path.exists():
-        if str(name_or_path) in shipped_models():
-            path = MODELS_DIR / str(name_or_path)
-        else:
-            raise ValueError(
-                f"unknown model {label}: neither a shipped model {shipped_models()} nor an "
-                "existing path"
-            )
     zipped = path.suffix == ".zip"
     directory = path.parent if zipped else path
     meta_path = directory / "metadata.json"
     if not meta_path.is_file():
         raise ValueError(f"model {label}: {meta_path} is missing")
     try:
-        metadata = json.loads(meta_path.read_text())
-        if not isinstance(metadata, dict):
-            raise ValueError("not a JSON object")
-    except (ValueError, UnicodeDecodeError) as error:
-        raise ValueError(f"model {label}: {meta_path} is corrupt: {str(error)[:200]}") from None
+        metadata = read_json(meta_path, directory)  # bounded: size, depth, inside the folder
+    except ValueError as error:
+        raise ValueError(f"model {label}: {error}") from None
+    if not isinstance(metadata, dict):
+        raise ValueError(f"model {label}: {meta_path} is corrupt: not a JSON object")
+    for key in ("env_kwargs", "history", "residual"):
+        if metadata.get(key) is not None and not isinstance(metadata[key], dict):
+            raise ValueError(f"model {label}: {meta_path}: {key} must be an object")
+    if "env_id" in metadata:
+        check_env_id(metadata["env_id"], f"{meta_path}: env_id")
     if not zipped and has_policy_files(directory):
         try:
             model, description = load_policy(directory)
@@ -224,7 +267,7 @@ def load(name_or_path: str | Path, *, trust_pickle: bool = False) -> Any:
         model = _load_sb3_zip(zip_path, metadata, label)
     norm_path = directory / "normalization.npz"
     normalization = read_normalization(norm_path) if norm_path.is_file() else None
-    name = str(name_or_path) if not Path(name_or_path).exists() else directory.name
+    name = str(name_or_path) if is_bare_name(name_or_path) else directory.name
     learned: Any = LearnedPolicy(model, metadata, normalization, name)
     if metadata.get("history") is not None:
         from agents.learned.history import HistoryConfig, HistoryPolicy

@@ -17,7 +17,6 @@ Nothing read here can run code.
 
 from __future__ import annotations
 
-import hashlib
 import io
 import json
 import os
@@ -28,6 +27,13 @@ from typing import Any
 import numpy as np
 
 from agents.io import write_atomic, write_json
+from agents.learned.policy_size import (
+    check_finite_weights,
+    check_policy_size,
+    check_weight_types,
+    read_weight_shapes,
+)
+from agents.untrusted import check_archive, read_json, sha256_file
 
 __all__ = [
     "DESCRIPTION",
@@ -189,7 +195,7 @@ def space_from_json(data: Any, where: str = "space") -> Any:
 
 
 def _sha256(path: Path) -> str:
-    return hashlib.sha256(path.read_bytes()).hexdigest()
+    return sha256_file(path, None)
 
 
 def save_policy(model: Any, directory: Path | str, algo: str) -> list[Path]:
@@ -275,8 +281,11 @@ def load_policy(directory: Path | str) -> tuple[Any, dict[str, Any]]:
     for required in (described, weights):
         if not required.is_file():
             raise ValueError(f"{required} is missing")
+    description = read_json(described, folder)
+    weights_sha256 = sha256_file(weights, folder)  # size-bounded and inside the folder
     try:
-        description = json.loads(described.read_text())
+        if not isinstance(description, dict):
+            raise ValueError("not a JSON object")
         if description.get("format") != FORMAT:
             raise ValueError(f"format {str(description.get('format'))[:60]!r} is not {FORMAT!r}")
         if description.get("format_version") != FORMAT_VERSION:
@@ -290,20 +299,26 @@ def load_policy(directory: Path | str) -> tuple[Any, dict[str, Any]]:
             raise ValueError("policy_class or policy_kwargs is malformed")
         observation_space = space_from_json(description["observation_space"], "observation_space")
         action_space = space_from_json(description["action_space"], "action_space")
-    except (json.JSONDecodeError, UnicodeDecodeError, KeyError, TypeError, AttributeError) as e:
+    except (UnicodeDecodeError, KeyError, TypeError, AttributeError) as e:
         raise ValueError(f"{described} is corrupt: {type(e).__name__}: {str(e)[:200]}") from None
     except ValueError as error:
         raise ValueError(f"{described}: {str(error)[:300]}") from None
-    if _sha256(weights) != description.get("weights_sha256"):
+    if weights_sha256 != description.get("weights_sha256"):
         raise ValueError(f"{weights} does not match the SHA-256 in {described}")
+    try:  # before anything is allocated: the description may ask for any size
+        check_policy_size(kwargs, observation_space, action_space, read_weight_shapes(weights))
+    except ValueError as error:
+        raise ValueError(f"{described}: {str(error)[:300]}") from None
     try:
         policy = policy_class(observation_space, action_space, _no_learning, **kwargs)
     except (TypeError, ValueError) as error:
         raise ValueError(f"{described}: cannot build the policy: {str(error)[:300]}") from None
+    check_weight_types(policy, weights)
     try:
         load_model(policy, str(weights), strict=True, device="cpu")
     except (SafetensorError, RuntimeError, ValueError, KeyError) as error:
         raise ValueError(f"{weights} is corrupt or does not fit: {str(error)[:300]}") from None
+    check_finite_weights(policy, weights)
     policy.set_training_mode(False)
     return policy, description
 
@@ -350,8 +365,9 @@ def read_normalization(path: Path | str) -> dict[str, Any]:
     ValueError
         If the file is not such a file (naming it).
     """
+    check_archive(path, Path(path).parent)  # a zip whose members inflate within bounds
     try:
-        with np.load(path) as data:
+        with np.load(path, allow_pickle=False) as data:
             keys = [k[len("mean/") :] for k in data.files if k.startswith("mean/")]
             return {
                 "stats": {k: (data[f"mean/{k}"], data[f"var/{k}"]) for k in keys},

@@ -48,6 +48,7 @@ from agents.learned.provenance import jsonable, provenance, versions
 from agents.learned.residual import ResidualVecEnv
 from agents.learned.zoo_config import TrainConfig
 from agents.plotting import save_figure
+from agents.untrusted import check_archive, read_json
 
 __all__ = ["ALGOS", "export_model", "save_normalization", "train"]
 
@@ -112,6 +113,7 @@ def _resume(model: Any, venv: Any, path: Path) -> None:
     if not zip_path.is_file():
         raise ValueError(f"cannot resume: {zip_path} not found")
     try:
+        check_archive(zip_path, zip_path.parent)  # no member inflates beyond the limits
         with zipfile.ZipFile(zip_path) as archive:
             data = json.loads(archive.read("data"))  # plain JSON: ":serialized:" stays text
         steps = data["num_timesteps"]
@@ -126,6 +128,7 @@ def _resume(model: Any, venv: Any, path: Path) -> None:
         RuntimeError,
         EOFError,
         pickle.UnpicklingError,
+        RecursionError,
     ) as error:
         raise ValueError(f"cannot resume from {zip_path}: {str(error)[:300]}") from None
     model.num_timesteps = steps
@@ -160,7 +163,9 @@ class _FineTune:
         policy, description = load_policy(directory)
         if description["algo"] != "ppo":
             raise ValueError(f"init_from: {directory} holds a {description['algo']} policy")
-        meta = json.loads((directory / "metadata.json").read_text())
+        meta = read_json(directory / "metadata.json", directory)
+        if not isinstance(meta, dict):
+            raise ValueError(f"init_from: {directory}/metadata.json is not a JSON object")
         history = (
             HistoryConfig.from_mapping(meta["history"], f"{directory}/metadata.json: history")
             if meta.get("history")

@@ -19,6 +19,7 @@ from agents.learned.curriculum import CurriculumConfig
 from agents.learned.fine_tune import FineTuneConfig
 from agents.learned.residual import ResidualConfig
 from radial_ibvs_gym.config import read_yaml_with_base
+from radial_ibvs_gym.registration import check_env_id
 
 __all__ = ["TrainConfig", "load_train_config", "parse_kwargs_string"]
 
@@ -208,6 +209,7 @@ def load_train_config(path: Path | str, env_id: str | None = None) -> TrainConfi
         if len(sections) != 1:
             raise ValueError(f"{path}: several env sections {sections}; choose one with --env-id")
         env_id = sections[0]
+    check_env_id(env_id, f"{path}: the section name")
     if env_id not in data:
         raise ValueError(f"{path}: no section for env id {env_id!r}; found {sections}")
     section = dict(data[env_id] or {})

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import dataclasses
 import functools
+import re
 import reprlib
 import types
 import typing
@@ -11,7 +12,12 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any, TypeVar
 
-from radial_ibvs_gym.limits import MAX_CONFIG_BASES, MAX_CONFIG_BYTES, MAX_CONFIG_DEPTH
+from radial_ibvs_gym.limits import (
+    MAX_CONFIG_BASES,
+    MAX_CONFIG_BYTES,
+    MAX_CONFIG_DEPTH,
+    MAX_CONFIG_NODES,
+)
 
 __all__ = [
     "ConfigError",
@@ -114,6 +120,12 @@ def read_yaml(source: str | Path, where: str | None = None) -> Any:
         raise ConfigError(f"{where}: {error}") from None
     except yaml.YAMLError as error:
         raise ConfigError(f"{where}: not valid YAML: {_clip(str(error))}") from None
+    except (ValueError, OverflowError, RecursionError) as error:  # e.g. a 5,000-digit integer
+        line = loader.line + 1 if loader is not None else "?"
+        raise ConfigError(
+            f"{where}: line {line}: a value cannot be read: {type(error).__name__}: "
+            f"{_clip(str(error))}"
+        ) from None
     finally:
         if loader is not None:
             loader.dispose()
@@ -193,15 +205,25 @@ def _strict_loader_class() -> type:
     import yaml
 
     class StrictLoader(yaml.SafeLoader):
-        """PyYAML's safe loader without anchors and aliases, nesting bounded."""
+        """PyYAML's safe loader without anchors and aliases, nesting and size bounded.
+
+        Numbers as YAML 1.2 reads them (``1e6`` is a float, not the string YAML 1.1 makes
+        of it); no timestamps (a date stays a string).
+        """
 
         depth = 0
+        nodes = 0
 
         def compose_node(self, parent: Any, index: Any) -> Any:
             event = self.peek_event()
             line = event.start_mark.line + 1
             if isinstance(event, yaml.AliasEvent) or getattr(event, "anchor", None) is not None:
                 raise ConfigError(f"line {line}: YAML anchors and aliases (&, *) are not allowed")
+            self.nodes += 1
+            if self.nodes > MAX_CONFIG_NODES:
+                raise ConfigError(
+                    f"line {line}: more than MAX_CONFIG_NODES = {MAX_CONFIG_NODES} values"
+                )
             self.depth += 1
             try:
                 if self.depth > MAX_CONFIG_DEPTH:
@@ -212,7 +234,27 @@ def _strict_loader_class() -> type:
             finally:
                 self.depth -= 1
 
+    resolvers = {
+        first: [
+            (tag, regexp) for tag, regexp in entries if not tag.endswith((":float", ":timestamp"))
+        ]
+        for first, entries in yaml.SafeLoader.yaml_implicit_resolvers.items()
+    }
+    StrictLoader.yaml_implicit_resolvers = resolvers
+    StrictLoader.add_implicit_resolver("tag:yaml.org,2002:float", _FLOAT_1_2, list("-+0123456789."))
     return StrictLoader
+
+
+#: YAML 1.2's floats (``1e6``, ``1.5``, ``.5``, ``-2.0E-3``, ``.inf``, ``.nan``): YAML 1.1
+#: needs a dot in the mantissa, so PyYAML reads ``1e6`` as a string
+_FLOAT_1_2 = re.compile(
+    r"""^(?:[-+]?(?:[0-9][0-9_]*)\.[0-9_]*(?:[eE][-+]?[0-9]+)?
+    |[-+]?(?:[0-9][0-9_]*)(?:[eE][-+]?[0-9]+)
+    |\.[0-9_]+(?:[eE][-+]?[0-9]+)?
+    |[-+]?\.(?:inf|Inf|INF)
+    |\.(?:nan|NaN|NAN))$""",
+    re.X,
+)
 
 
 def _convert(tp: Any, value: Any, where: str) -> Any:

@@ -23,6 +23,7 @@ from radial_ibvs_gym.config import did_you_mean, short
 from radial_ibvs_gym.envs.missed import MissedDetections
 from radial_ibvs_gym.envs.observation import Slots
 from radial_ibvs_gym.features import pair_indices
+from radial_ibvs_gym.limits import MAX_SUBSTEPS
 from radial_ibvs_gym.physics import BACKENDS, RobotConfig
 from radial_ibvs_gym.scenarios import Scenario, ScenarioConfig, load_scenario
 
@@ -146,19 +147,29 @@ class ParkingConfig:
                 raise ValueError(f"{name} must be finite and positive, got {value!r}")
 
     def __post_init__(self) -> None:
+        for name in ("task", "max_landmarks", "min_visible"):
+            value = getattr(self, name)
+            if value is not None and (isinstance(value, bool) or not isinstance(value, int)):
+                raise ValueError(f"{name} must be an integer, got {value!r}")
         self._check_before_loading({f.name: getattr(self, f.name) for f in _CHECKED})
         n = self.scenario.n_landmarks
         if self.task is not None and not (0 <= self.task < self.scenario.n_tasks):
             raise ValueError(f"task must be in 0..{self.scenario.n_tasks - 1}, got {self.task!r}")
         if not (3 <= self.min_visible <= n):
             raise ValueError(f"min_visible must be in 3..{n}, got {self.min_visible!r}")
-        if self.physics == "pymunk" and (
-            abs(round(self.control_dt / self.physics_dt) * self.physics_dt - self.control_dt) > 1e-9
-        ):
-            raise ValueError(
-                f"control_dt={self.control_dt!r} s must be a multiple of "
-                f"physics_dt={self.physics_dt!r} s"
-            )
+        if self.physics == "pymunk":
+            substeps = self.control_dt / self.physics_dt
+            if substeps > MAX_SUBSTEPS:
+                raise ValueError(
+                    f"control_dt={self.control_dt!r} s / physics_dt={self.physics_dt!r} s = "
+                    f"{substeps:.4g} physics sub-steps per control period exceed MAX_SUBSTEPS = "
+                    f"{MAX_SUBSTEPS}"
+                )
+            if abs(round(substeps) * self.physics_dt - self.control_dt) > 1e-9:
+                raise ValueError(
+                    f"control_dt={self.control_dt!r} s must be a multiple of "
+                    f"physics_dt={self.physics_dt!r} s"
+                )
         for name in REWARD_WEIGHTS:
             weight = getattr(self, name)
             if not (math.isfinite(weight) and weight >= 0):

@@ -250,7 +250,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         if self.world is None or self._setup is None:
             raise RuntimeError("call reset() before step()")
         config = self.config
-        a = np.asarray(action, dtype=np.float64).reshape(-1)
+        a = rules.real_actions(action).reshape(-1)
         if a.shape != (2,):
             raise ValueError(f"action must be {rules.ACTION_RULE}, got {action!r}")
         a0, a1 = a.tolist()

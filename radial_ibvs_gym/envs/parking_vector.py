@@ -285,7 +285,7 @@ class ParkingVectorEnv(VectorEnv):
     ) -> tuple[Any, NDArray[np.float64], NDArray[np.bool_], NDArray[np.bool_], dict[str, Any]]:
         """Step every env; see the class docstring for autoreset and the info arrays."""
         n, t = self.num_envs, self.config
-        a = np.asarray(actions, dtype=np.float64)
+        a = rules.real_actions(actions)
         if a.shape != (n, 2):
             raise ValueError(
                 f"actions must have shape ({n}, 2) (one (v, omega) row per env), got {a.shape}"

@@ -37,6 +37,7 @@ __all__ = [
     "info_values",
     "pose_errors",
     "potential",
+    "real_actions",
     "reward_terms",
 ]
 
@@ -45,7 +46,26 @@ REWARD_TERMS = ("progress", "heading", "precision", "time", "collision", "lost",
 
 
 #: the one rule for actions, in the scalar and the vector envs alike
-ACTION_RULE = "two finite numbers (values outside [-1, 1] are clipped to it)"
+ACTION_RULE = "two finite real numbers (values outside [-1, 1] are clipped to it)"
+
+
+def real_actions(action: Any) -> np.ndarray:
+    """Return ``action`` as float64, refusing what is not real numbers (complex, bool, text).
+
+    NumPy would drop a complex action's imaginary part with only a warning.
+
+    Raises
+    ------
+    ValueError
+        For an array that is not of integers or floats, naming its dtype.
+    """
+    try:
+        raw = np.asarray(action)
+    except ValueError as error:  # ragged
+        raise ValueError(f"action must be {ACTION_RULE}, got {action!r}: {error}") from None
+    if raw.dtype.kind not in "iuf":
+        raise ValueError(f"action must be {ACTION_RULE}, got an array of {raw.dtype}")
+    return raw.astype(np.float64)
 
 
 _TWO_PI = 2.0 * math.pi

@@ -23,6 +23,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from radial_ibvs_gym.geometry import wrap_angle
+from radial_ibvs_gym.limits import MAX_SUBSTEPS
 from radial_ibvs_gym.physics.base import check_obstacles, start_pose_error
 from radial_ibvs_gym.physics.diffdrive import RobotConfig
 
@@ -379,6 +380,11 @@ class PymunkFleet(Fleet):
                 raise ValueError(start_pose_error(poses[k]))
 
     def step(self, command: Array, dt: float) -> tuple[Array, NDArray[np.bool_]]:  # noqa: D102
+        if not dt / self.physics_dt <= MAX_SUBSTEPS:  # NaN too
+            raise ValueError(
+                f"dt={dt!r} s is more than MAX_SUBSTEPS = {MAX_SUBSTEPS} sub-steps of "
+                f"physics_dt={self.physics_dt!r} s"
+            )
         steps = round(dt / self.physics_dt)
         if steps < 1 or abs(steps * self.physics_dt - dt) > 1e-9:
             raise ValueError(

@@ -18,6 +18,7 @@ import pymunk
 from numpy.typing import ArrayLike, NDArray
 
 from radial_ibvs_gym.geometry import wrap_angle_scalar
+from radial_ibvs_gym.limits import MAX_SUBSTEPS
 from radial_ibvs_gym.physics.base import StepResult, World, start_pose_error
 from radial_ibvs_gym.physics.diffdrive import RobotConfig, limit_command
 
@@ -126,6 +127,11 @@ class PymunkWorld(World):
         ValueError
             If ``dt`` is not a positive multiple of ``physics_dt``, or the command is not finite.
         """
+        if not dt / self.physics_dt <= MAX_SUBSTEPS:  # NaN too
+            raise ValueError(
+                f"dt={dt!r} s is more than MAX_SUBSTEPS = {MAX_SUBSTEPS} sub-steps of "
+                f"physics_dt={self.physics_dt!r} s"
+            )
         n = round(dt / self.physics_dt)
         if n < 1 or abs(n * self.physics_dt - dt) > 1e-9:
             raise ValueError(

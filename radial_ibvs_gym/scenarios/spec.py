@@ -14,7 +14,7 @@ from typing import Any, Literal
 import numpy as np
 
 from radial_ibvs_gym.camera import CameraSpec
-from radial_ibvs_gym.limits import MAX_LANDMARKS, MAX_OBSTACLES
+from radial_ibvs_gym.limits import MAX_LANDMARKS, MAX_OBSTACLES, MAX_WORLD_M
 
 __all__ = [
     "PoseRange",
@@ -28,7 +28,18 @@ __all__ = [
 Pose = tuple[float, float, float]
 
 
-def _check_range(value: tuple[float, float], name: str, *, positive: bool = False) -> None:
+def _check_world(values: Any, name: str) -> None:
+    """Refuse a length or coordinate that is not finite or lies beyond ``MAX_WORLD_M`` metres."""
+    for v in values:
+        if not (math.isfinite(v) and abs(v) <= MAX_WORLD_M):
+            raise ValueError(
+                f"{name} must be finite and within +-MAX_WORLD_M = {MAX_WORLD_M} m, got {values!r}"
+            )
+
+
+def _check_range(
+    value: tuple[float, float], name: str, *, positive: bool = False, metres: bool = True
+) -> None:
     lo, hi = value
     if not (math.isfinite(lo) and math.isfinite(hi) and lo <= hi):
         raise ValueError(
@@ -36,6 +47,8 @@ def _check_range(value: tuple[float, float], name: str, *, positive: bool = Fals
         )
     if positive and lo <= 0:
         raise ValueError(f"{name} must be positive, got {value!r}")
+    if metres:
+        _check_world(value, name)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -55,8 +68,9 @@ class PoseRange:
     yaw: tuple[float, float] = (-math.pi, math.pi)
 
     def __post_init__(self) -> None:
-        for name in ("x", "y", "yaw"):
+        for name in ("x", "y"):
             _check_range(getattr(self, name), name)
+        _check_range(self.yaw, "yaw", metres=False)
 
     def sample(self, rng: np.random.Generator) -> np.ndarray:
         """Draw one pose ``(x, y, yaw)`` (metres, radians)."""
@@ -82,8 +96,10 @@ class TaskSpec:
     def __post_init__(self) -> None:
         for name in ("start", "goal"):
             value = getattr(self, name)
-            if isinstance(value, tuple) and not all(math.isfinite(v) for v in value):
-                raise ValueError(f"{name} must be finite, got {value!r}")
+            if isinstance(value, tuple):
+                if not all(math.isfinite(v) for v in value):
+                    raise ValueError(f"{name} must be finite, got {value!r}")
+                _check_world(value[:2], f"{name} (x, y)")
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -227,6 +243,7 @@ class ScenarioConfig:
         w, d = self.room
         if not (math.isfinite(w) and math.isfinite(d) and w > 0 and d > 0):
             raise ValueError(f"room must be a positive [width, depth] in metres, got {self.room!r}")
+        _check_world(self.room, "room")
         if not self.tasks:
             raise ValueError("tasks: a scenario needs at least one task (start and goal)")
         if bool(self.landmarks) == (self.random_landmarks is not None):
@@ -241,12 +258,12 @@ class ScenarioConfig:
                 f"obstacles: {len(self.obstacles)} fixed and up to {drawn} drawn exceed "
                 f"MAX_OBSTACLES = {MAX_OBSTACLES}"
             )
-        for i, (_, _, radius) in enumerate(self.obstacles):
-            if not (math.isfinite(radius) and radius > 0):
-                raise ValueError(f"obstacles[{i}] radius must be positive, got {radius!r}")
+        for i, obstacle in enumerate(self.obstacles):
+            _check_world(obstacle, f"obstacles[{i}]")
+            if not obstacle[2] > 0:
+                raise ValueError(f"obstacles[{i}] radius must be positive, got {obstacle[2]!r}")
         for i, p in enumerate(self.landmarks):
-            if not all(math.isfinite(v) for v in p):
-                raise ValueError(f"landmarks[{i}] must be finite, got {p!r}")
+            _check_world(p, f"landmarks[{i}]")
         lo, hi = self.min_start_goal_distance, self.max_start_goal_distance
         if not (lo >= 0 and hi > lo):
             raise ValueError(
@@ -256,6 +273,17 @@ class ScenarioConfig:
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ValueError(f"{name} must be finite and positive, got {value!r}")
+        _check_world((self.wall_clearance, self.camera_height), "wall_clearance, camera_height")
+        smallest = (
+            min(self.random_room.width[0], self.random_room.depth[0])
+            if self.random_room is not None
+            else min(self.room)
+        )
+        if 2.0 * self.wall_clearance >= smallest:
+            raise ValueError(
+                f"wall_clearance={self.wall_clearance!r} m leaves no floor in a room as small as "
+                f"{smallest!r} m (it must be under half the room's smallest side)"
+            )
         if self.min_visible_at_goal < 3:
             raise ValueError(f"min_visible_at_goal must be >= 3, got {self.min_visible_at_goal!r}")
         n = len(self.landmarks) if self.landmarks else self.random_landmarks.count  # type: ignore[union-attr]
