@@ -143,7 +143,11 @@ def read_json(path: Path | str, folder: Path | str | None, limit: int = MAX_JSON
     data = read_bytes(path, folder, limit, "MAX_JSON_BYTES")
     try:
         value = json.loads(data)
-    except (ValueError, UnicodeDecodeError, RecursionError) as error:  # too deep: recursion
+    except RecursionError:  # Python's parser gives up near 1,000 levels
+        raise UntrustedFileError(
+            f"{path}: nested deeper than MAX_JSON_DEPTH = {MAX_JSON_DEPTH}"
+        ) from None
+    except (ValueError, UnicodeDecodeError) as error:
         raise UntrustedFileError(
             f"{path} is corrupt: {type(error).__name__}: {str(error)[:200]}"
         ) from None

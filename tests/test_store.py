@@ -67,7 +67,7 @@ def test_the_policy_settings_and_the_version_are_in_the_key(monkeypatch) -> None
     assert job_key(job) != before
 
 
-@pytest.mark.parametrize("damage", ["duplicated", "seeds", "policy", "variant"])
+@pytest.mark.parametrize("damage", ["duplicated", "seeds", "policy", "variant", "skipped", "value"])
 def test_a_chunk_that_fails_its_check_runs_again(damage: str, tmp_path: Path, monkeypatch) -> None:
     monkeypatch.setattr(benchmark, "CHUNK", 2)
     run = dict(policies=["ibvs"], suites=["paper"], episodes=2, progress=False, store=tmp_path)
@@ -77,6 +77,10 @@ def test_a_chunk_that_fails_its_check_runs_again(damage: str, tmp_path: Path, mo
     rows = data["rows"]
     if damage == "duplicated":  # 2 episodes turned into 200 rows: once a 96-100 % interval
         data["rows"] = rows * 100
+    elif damage == "skipped":  # once passed the check, and dropped the chunk's rows
+        data["rows"], data["skipped"] = [], "no reason"
+    elif damage == "value":  # once used as it was
+        data["rows"] = [{**row, "success": not row["success"]} for row in rows]
     elif damage == "seeds":
         data["rows"] = [{**row, "seed": row["seed"] + 1} for row in rows]
     else:

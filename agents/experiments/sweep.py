@@ -19,6 +19,7 @@ from __future__ import annotations
 import io
 import json
 import math
+import os
 import shutil
 import tempfile
 import zipfile
@@ -70,6 +71,41 @@ def _config_text(path: Path) -> str:
     return path.read_text()
 
 
+#: the name of a worker's scratch folder in the temporary directory: prefix, worker pid, random
+SCRATCH_PREFIX = "radial-ibvs-sweep-"
+
+
+def remove_stale_scratch() -> list[Path]:
+    """Remove the scratch folders of sweep workers that are gone (killed before cleaning up).
+
+    A worker killed with its sweep (SIGKILL runs no clean-up) leaves its scratch training
+    folder in the temporary directory; the next seed trained on this machine removes it.
+
+    Returns
+    -------
+    list of pathlib.Path
+        The folders removed.
+    """
+    removed = []
+    for folder in Path(tempfile.gettempdir()).glob(f"{SCRATCH_PREFIX}*-*"):
+        pid = folder.name[len(SCRATCH_PREFIX) :].split("-", 1)[0]
+        if not pid.isdigit() or _running(int(pid)):
+            continue
+        shutil.rmtree(folder, ignore_errors=True)
+        removed.append(folder)
+    return removed
+
+
+def _running(pid: int) -> bool:
+    try:
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except PermissionError:  # another user's process
+        return True
+    return True
+
+
 def _train_seed(run: SeedRun) -> bytes:
     """Train one seed in a scratch directory; return the model directory as a zip archive."""
     import torch
@@ -80,7 +116,8 @@ def _train_seed(run: SeedRun) -> bytes:
     from agents.learned.zoo_config import load_train_config
 
     torch.set_num_threads(1)
-    with tempfile.TemporaryDirectory() as scratch:
+    remove_stale_scratch()
+    with tempfile.TemporaryDirectory(prefix=f"{SCRATCH_PREFIX}{os.getpid()}-") as scratch:
         config_path = Path(scratch) / Path(run.config_file).name
         config_path.write_text(run.config_text)
         model_dir = Path(scratch) / "model"

@@ -155,6 +155,50 @@ def _schedule(value: Any, where: str) -> Any:
     return value
 
 
+#: the hyper-parameters checked before stable-baselines3 sees them: (kind, low, high), with
+#: ``low`` included; kinds: "int" (whole numbers), "float" (numbers), "rate" (a number or a
+#: ``lin_<x>`` schedule, already a function here)
+_HYPERPARAMETERS: dict[str, tuple[str, float, float]] = {
+    "n_steps": ("int", 1, 1 << 24),
+    "batch_size": ("int", 1, 1 << 24),
+    "n_epochs": ("int", 1, 10_000),
+    "buffer_size": ("int", 1, 1 << 27),
+    "learning_starts": ("int", 0, 1 << 40),
+    "gradient_steps": ("int", -1, 1 << 20),
+    "policy_delay": ("int", 1, 1 << 20),
+    "top_quantiles_to_drop_per_net": ("int", 0, 1 << 10),
+    "learning_rate": ("rate", 0.0, 10.0),
+    "clip_range": ("rate", 1e-12, 1e6),
+    "gamma": ("float", 0.0, 1.0),
+    "gae_lambda": ("float", 0.0, 1.0),
+    "tau": ("float", 0.0, 1.0),
+    "vf_coef": ("float", 0.0, 1e6),
+    "max_grad_norm": ("float", 1e-12, 1e12),
+}
+
+
+def _check_hyperparameter(key: str, value: Any, where: str) -> Any:
+    """Return a known hyper-parameter checked (whole numbers as ``int``), before SB3 sees it.
+
+    Raises
+    ------
+    ValueError
+        For the wrong type or range, naming the key and the value.
+    """
+    if key not in _HYPERPARAMETERS:
+        return value
+    kind, low, high = _HYPERPARAMETERS[key]
+    if kind == "rate" and callable(value):
+        return value  # a lin_<x> schedule, checked when parsed
+    number = isinstance(value, int | float) and not isinstance(value, bool)
+    whole = number and (kind != "int" or float(value).is_integer())
+    if not (whole and low <= value <= high):
+        what = "an integer" if kind == "int" else "a number"
+        what += " or a 'lin_<x>' schedule" if kind == "rate" else ""
+        raise ValueError(f"{where}.{key} must be {what} in [{low:g}, {high:g}], got {value!r}")
+    return int(value) if kind == "int" else value
+
+
 def _replay_buffer_class(name: Any, where: str) -> type:
     """rl-zoo3's ``replay_buffer_class: HerReplayBuffer`` (the one buffer name it takes)."""
     if name != "HerReplayBuffer":
@@ -247,6 +291,7 @@ def load_train_config(path: Path | str, env_id: str | None = None) -> TrainConfi
     for key, value in algo_kwargs.items():
         if isinstance(value, float) and not math.isfinite(value):
             raise ValueError(f"{where}.{key} must be finite, got {value!r}")
+        algo_kwargs[key] = _check_hyperparameter(key, value, where)
     env_kwargs = meta.get("env_kwargs") or {}
     if not isinstance(env_kwargs, Mapping):
         raise ValueError(f"{path.name}[radial_ibvs_gym].env_kwargs must be a mapping")
