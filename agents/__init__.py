@@ -28,14 +28,19 @@ __all__ = [
     "load",
     "make_policy",
     "make_vec_env",
+    "save_model_dir",
     "shipped_models",
 ]
 
 
 def __getattr__(name: str) -> Any:
-    """Import :func:`make_vec_env` on first use (it loads stable-baselines3 and torch)."""
+    """Import :func:`make_vec_env` and ``save_model_dir`` on first use (they load SB3, torch)."""
     if name == "make_vec_env":
         from agents.learned.sb3_vec_env import make_vec_env
 
         return make_vec_env
+    if name == "save_model_dir":
+        from agents.learned.saving import save_model_dir
+
+        return save_model_dir
     raise AttributeError(f"module 'agents' has no attribute {name!r}")

@@ -37,11 +37,14 @@ def test_round_trip_gives_the_same_transitions(dataset):
                 np.testing.assert_array_equal(episode.observations[key][t], value, err_msg=key)
             action, state = planner.predict(obs, state, np.array([start]))
             np.testing.assert_array_equal(episode.actions[t], action)
-            obs, reward, terminated, truncated, _ = env.step(action)
+            obs, reward, terminated, truncated, info = env.step(action)
             assert episode.rewards[t] == pytest.approx(reward, rel=1e-6)
+            assert episode.infos["position_error_m"][t + 1] == info["position_error_m"]
             assert bool(episode.terminations[t]) == terminated
             start = False
         assert terminated or truncated  # the recorded episode ended where this one does
+        assert bool(episode.infos["is_success"][-1]) == info["is_success"]
+        assert len(episode.infos["reward_progress"]) == len(episode.actions) + 1
         for key, value in obs.items():
             np.testing.assert_array_equal(episode.observations[key][-1], value, err_msg=key)
 

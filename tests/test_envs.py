@@ -14,6 +14,7 @@ from stable_baselines3.common.env_checker import check_env as sb3_check_env
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from radial_ibvs_gym.envs import ENV_IDS
+from radial_ibvs_gym.envs.rules import REWARD_TERMS, reward_terms_in
 
 SCENARIOS = ("paper-sim", "paper-lab", "random")
 INFO_KEYS = {
@@ -24,7 +25,8 @@ INFO_KEYS = {
     "is_success",
     "collision",
     "n_visible",
-    "reward_terms",
+    "reward_progress",
+    "reward_success",
 }
 
 
@@ -93,7 +95,8 @@ def test_env_pickles_mid_episode(physics: str) -> None:
 def test_observation_matches_the_radial_model_and_info_has_the_contract() -> None:
     env = gym.make("RadialIBVS/Parking-v0", task=1)
     obs, info = env.reset(seed=0)
-    assert INFO_KEYS - {"reward_terms"} <= set(info)
+    assert INFO_KEYS <= set(info)
+    assert reward_terms_in(info) == dict.fromkeys(REWARD_TERMS, 0.0)
     np.testing.assert_array_equal(info["robot_pose"], [3.0, 3.0, 0.0])
     np.testing.assert_allclose(info["goal_pose"], [7.0, 7.0, math.pi / 2])
     assert info["position_error_m"] == pytest.approx(4 * math.sqrt(2))
@@ -105,7 +108,7 @@ def test_observation_matches_the_radial_model_and_info_has_the_contract() -> Non
     np.testing.assert_allclose(points[0], expected, atol=1e-6)
     obs, reward, *_, info = env.step(np.zeros(2, np.float32))
     assert INFO_KEYS <= set(info)
-    assert reward == pytest.approx(sum(info["reward_terms"].values()))
+    assert reward == pytest.approx(sum(reward_terms_in(info).values()))
 
 
 def test_reset_options_fix_start_and_goal() -> None:
@@ -125,7 +128,7 @@ def test_driving_to_the_goal_succeeds_and_terminates() -> None:
         if terminated:
             break
     assert info["is_success"] and terminated
-    assert info["reward_terms"]["success"] > 0
+    assert info["reward_success"] > 0
 
 
 def test_collision_terminates() -> None:
@@ -135,7 +138,7 @@ def test_collision_terminates() -> None:
         *_, terminated, _, info = env.step(np.array([1.0, 0.0], np.float32))
         if terminated:
             break
-    assert terminated and info["collision"] and info["reward_terms"]["collision"] < 0
+    assert terminated and info["collision"] and info["reward_collision"] < 0
 
 
 @pytest.mark.parametrize(
@@ -149,7 +152,7 @@ def test_collision_terminates() -> None:
         ({"control_dt": 0.0}, "control_dt must be finite and positive"),
         ({"min_visible": 2}, r"min_visible must be in 3\.\.8"),
         ({"render_mode": "rgb"}, "render_mode .rgb. is not supported"),
-        ({"depth_scael": 1.3}, r"unknown argument\(s\) \['depth_scael'\] \(did you mean"),
+        ({"depth_scael": 1.3}, r"unexpected keyword argument 'depth_scael' \(did you mean"),
         ({"robot": {"wheel_base": 0.0}}, "wheel_base must be a positive number"),
     ],
 )
@@ -157,6 +160,20 @@ def test_collision_terminates() -> None:
 def test_bad_arguments_are_named(kwargs: dict, match: str) -> None:
     with pytest.raises(ValueError, match=match):
         gym.make("RadialIBVS/Parking-v0", **kwargs)
+
+
+def test_an_unknown_argument_is_the_type_error_python_would_raise() -> None:
+    from radial_ibvs_gym.envs import UnknownArgumentError
+
+    for make in (gym.make, lambda i, **kw: gym.make_vec(i, num_envs=2, **kw)):
+        with pytest.raises(TypeError, match=r"__init__\(\) got an unexpected keyword argument"):
+            make("RadialIBVS/Parking-v0", frameskip=4)  # what TorchRL's GymEnv passes
+    with pytest.raises(UnknownArgumentError) as caught:
+        gym.make("RadialIBVS/ParkingGoal-v1", frameskip=4)
+    assert isinstance(caught.value, ValueError)
+    assert "ParkingGoalEnv.__init__() got an unexpected keyword argument 'frameskip'" in str(
+        caught.value
+    )
 
 
 def test_bad_actions_and_options_are_named() -> None:
@@ -207,7 +224,7 @@ def test_goal_env_reward_is_consistent_with_compute_reward() -> None:
     obs, reward, _, _, info = env.step(np.array([0.4, 0.1], np.float32))
     r = env.unwrapped.compute_reward(obs["achieved_goal"], obs["desired_goal"], info)
     assert reward == float(r)
-    assert reward == pytest.approx(sum(info["reward_terms"].values()))
+    assert reward == pytest.approx(sum(reward_terms_in(info).values()))
     # batched, as HER calls it; zero when the images agree
     batch = np.stack([obs["achieved_goal"], obs["desired_goal"]])
     out = env.unwrapped.compute_reward(batch, np.stack([obs["desired_goal"]] * 2), [info] * 2)
@@ -385,11 +402,11 @@ def test_precision_shaping_is_the_difference_of_a_log_potential() -> None:
 
     before = phi(info)
     _, reward, *_, info = env.step(np.array([1.0, 0.0], np.float32))
-    assert info["reward_terms"]["precision"] == pytest.approx(2.0 * (phi(info) - before))
-    assert reward == pytest.approx(sum(info["reward_terms"].values()))
+    assert info["reward_precision"] == pytest.approx(2.0 * (phi(info) - before))
+    assert reward == pytest.approx(sum(reward_terms_in(info).values()))
     default = gym.make("RadialIBVS/Parking-v0", task=0)
     default.reset(seed=0)
-    assert default.step(np.zeros(2, np.float32))[-1]["reward_terms"]["precision"] == 0.0
+    assert default.step(np.zeros(2, np.float32))[-1]["reward_precision"] == 0.0
     with pytest.raises(ValueError, match="w_precision must be finite and >= 0"):
         gym.make("RadialIBVS/Parking-v0", w_precision=float("nan"))
 
@@ -473,3 +490,20 @@ def test_the_ibvs_parks_with_padded_observations() -> None:
     policy = IBVSPolicy()
     env = make_env(policy, "paper-sim", {"task": 1, "physics": "kinematic", "max_landmarks": 16})
     assert run_episode(policy, env, seed=0).success
+
+
+@pytest.mark.parametrize("env_id", ENV_IDS)
+def test_reset_and_step_give_the_same_info_keys_all_numbers(env_id: str) -> None:
+    """One info structure (Minari's record_infos), flat numbers and arrays (TorchRL)."""
+    env = gym.make(env_id, scenario="paper-lab", physics="kinematic")
+    _, at_reset = env.reset(seed=0)
+    _, _, _, _, at_step = env.step(env.action_space.sample())
+    assert set(at_reset) == set(at_step)
+    for key, value in at_step.items():
+        assert isinstance(value, int | float | bool | np.ndarray), (key, value)
+        assert type(value) is type(at_reset[key]), key
+    vec = gym.make_vec(env_id, num_envs=2, scenario="paper-lab", physics="kinematic")
+    _, at_reset = vec.reset(seed=0)
+    _, _, _, _, at_step = vec.step(vec.action_space.sample())
+    assert set(at_reset) == set(at_step)
+    assert all(isinstance(v, np.ndarray) for v in at_step.values())

@@ -116,9 +116,10 @@ def test_the_import_graph_has_no_cycle() -> None:
 
 
 #: the env package's modules by job, lower first: a module may import only lower ones (and
-#: ``missed``, the missed-detection draws, and ``viewer``, the renderer, below them all)
+#: ``missed``, the missed-detection draws, ``viewer``, the renderer, and ``autoreset``, the
+#: enum of Gymnasium >= 1.1, below them all)
 ENV_JOBS = (
-    ("missed", "viewer"),
+    ("missed", "viewer", "autoreset"),
     ("rules", "observation", "vector_info"),
     ("config",),
     ("episodes",),

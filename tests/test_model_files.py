@@ -26,10 +26,10 @@ from agents.learned.model_files import (
     DESCRIPTION,
     WEIGHTS,
     load_policy,
-    save_model_dir,
     space_from_json,
     space_to_json,
 )
+from agents.learned.saving import save_model_dir
 from agents.runner import make_env
 
 CONFIG = Path(__file__).resolve().parents[1] / "configs" / "agents" / "ppo_parking.yaml"
@@ -196,6 +196,62 @@ def test_an_sb3_model_saved_with_save_model_dir_loads(tmp_path: Path) -> None:
     obs, _ = gym.make("RadialIBVS/Parking-v0", **kwargs).reset(seed=0)
     expected, _ = model.predict(obs, deterministic=True)
     np.testing.assert_array_equal(policy.predict(obs)[0], expected)
+
+
+def test_save_model_dir_reads_the_env_and_its_normalisation_from_the_model(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.env_util import make_vec_env as sb3_make_vec_env
+    from stable_baselines3.common.vec_env import VecNormalize
+
+    from agents import make_vec_env, save_model_dir
+    from agents.learned.saving import env_spec_of
+
+    kwargs = {"physics": "kinematic", "scenario": "paper-sim", "task": 2}
+    venv = VecNormalize(make_vec_env("RadialIBVS/Parking-v0", 2, seed=0, **kwargs))
+    model = PPO(
+        "MultiInputPolicy", venv, n_steps=16, batch_size=32, policy_kwargs={"net_arch": [8]}
+    )
+    model.learn(32)
+    save_model_dir(model, tmp_path / "mine")  # nothing typed again
+    meta = json.loads((tmp_path / "mine" / "metadata.json").read_text())
+    assert meta["env_id"] == "RadialIBVS/Parking-v0" and meta["env_kwargs"] == kwargs
+    assert (tmp_path / "mine" / "normalization.npz").is_file()
+    policy = load(tmp_path / "mine")
+    obs, _ = gym.make("RadialIBVS/Parking-v0", **kwargs).reset(seed=0)
+    normalised = venv.normalize_obs({k: v[None] for k, v in obs.items()})
+    expected, _ = model.predict(normalised, deterministic=True)
+    np.testing.assert_allclose(policy.predict(obs)[0], expected[0], atol=1e-6)  # float32 stats
+    argv = ["evaluate", "--policy", str(tmp_path / "mine"), "--scenario", "paper-sim"]
+    assert main([*argv, "--episodes", "1"]) == 0
+    # SB3's own make_vec_env over gym.make, and a plain env
+    dummy = sb3_make_vec_env("RadialIBVS/ParkingGoal-v1", 2, env_kwargs={"physics": "kinematic"})
+    assert env_spec_of(dummy) == ("RadialIBVS/ParkingGoal-v1", {"physics": "kinematic"})
+    plain = gym.wrappers.FlattenObservation(gym.make("RadialIBVS/Parking-v0", task=1))
+    assert env_spec_of(plain) == ("RadialIBVS/Parking-v0", {"task": 1})
+    with pytest.raises(ValueError, match="'CartPole-v1' is not an env of radial_ibvs_gym"):
+        env_spec_of(gym.make("CartPole-v1"))
+
+
+def test_trust_model_loads_a_folder_holding_only_an_sb3_zip(tmp_path: Path) -> None:
+    """What --help says: a stable-baselines3 model.zip, saved by SB3 itself, when trusted."""
+    from stable_baselines3 import PPO
+
+    from agents import make_vec_env
+
+    venv = make_vec_env("RadialIBVS/Parking-v0", 2, seed=0, physics="kinematic")
+    model = PPO(
+        "MultiInputPolicy", venv, n_steps=16, batch_size=32, policy_kwargs={"net_arch": [8]}
+    )
+    (tmp_path / "sb3").mkdir()
+    model.save(tmp_path / "sb3" / "model.zip")
+    with pytest.raises(ValueError, match="refusing"):
+        load(tmp_path / "sb3")
+    policy = load(tmp_path / "sb3", trust_pickle=True)
+    assert policy.metadata["algo"] == "ppo" and policy.env_id == "RadialIBVS/Parking-v0"
+    argv = ["evaluate", "--policy", str(tmp_path / "sb3"), "--trust-model", "--episodes", "1"]
+    assert main([*argv, "--scenario", "paper-sim", "--env-kwarg", "physics=kinematic"]) == 0
 
 
 def test_altered_or_hostile_descriptions_are_refused(tmp_path: Path) -> None:

@@ -10,6 +10,7 @@ import pytest
 
 import radial_ibvs_gym  # noqa: F401  (registers the envs)
 from agents.learned.sb3_vec_env import make_vec_env
+from radial_ibvs_gym.envs.rules import reward_terms_in
 
 KW = {"scenario": "random", "physics": "kinematic"}
 #: narrow rooms, every landmark needed, driving on after a collision: random actions collide
@@ -49,7 +50,7 @@ def test_step_reward_is_compute_reward_one_by_one_and_batched(steps):
     assert sum(i["lost"] for i in infos) >= 3
     for a, d, info, reward in zip(achieved, desired, infos, rewards, strict=True):
         assert reward == float(env.compute_reward(a, d, info))
-        assert reward == sum(info["reward_terms"].values())
+        assert reward == sum(reward_terms_in(info).values())
     batched = env.compute_reward(np.stack(achieved), np.stack(desired), np.array(infos))
     np.testing.assert_array_equal(batched, np.array(rewards))
 

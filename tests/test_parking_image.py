@@ -64,3 +64,25 @@ def test_stable_baselines3_trains_a_cnn_policy_on_it() -> None:
     action, _ = model.predict(obs, deterministic=True)
     assert action.shape == (2,) and np.isfinite(action).all()
     assert "image" in model.policy.features_extractor.extractors  # a CNN on each image
+
+
+def test_the_channels_layout_is_a_box_that_cnn_policy_and_image_wrappers_take() -> None:
+    from stable_baselines3 import PPO
+
+    kwargs = {"scenario": "paper-lab", "physics": "kinematic", "image_size": 64}
+    layered = gym.make(ENV_ID, image_layout="channels", **kwargs)
+    check_env(layered.unwrapped)
+    obs, _ = layered.reset(seed=3)
+    assert layered.observation_space == gym.spaces.Box(0, 255, (64, 64, 2), np.uint8)
+    both, _ = gym.make(ENV_ID, **kwargs).reset(seed=3)  # the same images, as channels
+    np.testing.assert_array_equal(obs[..., :1], both["image"])
+    np.testing.assert_array_equal(obs[..., 1:], both["goal_image"])
+    resized = gym.wrappers.ResizeObservation(layered, (36, 36))
+    assert resized.reset(seed=0)[0].shape == (36, 36, 2)
+    stacked = gym.wrappers.FrameStackObservation(resized, 2)
+    assert stacked.reset(seed=0)[0].shape == (2, 36, 36, 2)
+    model = PPO("CnnPolicy", resized, n_steps=16, batch_size=16, n_epochs=1, seed=0)
+    model.learn(total_timesteps=16)
+    assert model.predict(resized.reset(seed=1)[0], deterministic=True)[0].shape == (2,)
+    with pytest.raises(ValueError, match="image_layout"):
+        gym.make(ENV_ID, image_layout="planar")

@@ -320,7 +320,7 @@ def test_frames_without_beacons_give_a_status_then_the_episode_ends_lost() -> No
     assert set(statuses) == {"no_beacons"}
     assert visible[0] > 0 and visible[-1] == 0  # coasting, then hidden
     assert terminated and not info["is_success"]
-    assert info["reward_terms"]["lost"] < 0
+    assert info["reward_lost"] < 0
     last, _ = policy.predict(obs)
     np.testing.assert_array_equal(last, 0.0)  # the IBVS stops with too few points
 

@@ -12,7 +12,8 @@ from radial_ibvs_gym.envs.rules import ACTION_RULE
 
 
 def test_a_typo_of_an_env_argument_is_named_as_such_with_a_suggestion() -> None:
-    with pytest.raises(ValueError, match=r"'phisics'\] \(did you mean 'physics'\?\)") as caught:
+    typo = r"argument 'phisics' \(did you mean 'physics'\?\)"
+    with pytest.raises(ValueError, match=typo) as caught:
         gym.make("RadialIBVS/Parking-v0", phisics="kinematic")
     assert "the env's arguments" in str(caught.value) and "'obs_mode'" in str(caught.value)
     with pytest.raises(ValueError, match=r"did you mean 'depth_scale'"):

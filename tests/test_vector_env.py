@@ -7,9 +7,9 @@ from typing import Any
 import gymnasium as gym
 import numpy as np
 import pytest
-from gymnasium.vector import AutoresetMode
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
+from radial_ibvs_gym.envs.autoreset import AutoresetMode
 from radial_ibvs_gym.envs.parking_vector import ParkingVectorEnv
 from radial_ibvs_gym.physics import RobotConfig, limit_command
 from radial_ibvs_gym.physics.fleet import KinematicFleet, PymunkFleet, limit_commands
@@ -45,12 +45,14 @@ def _run_both(env_id: str, n: int, steps: int, mode: str, tol: float, **kwargs: 
     native = gym.make_vec(
         env_id, num_envs=n, vectorization_mode="vector_entry_point", autoreset_mode=mode, **kwargs
     )
+    if hasattr(gym.vector, "AutoresetMode"):
+        vector_kwargs: dict[str, Any] = {"autoreset_mode": MODES[mode]}
+    elif mode == "next_step":  # Gymnasium 1.0: SyncVectorEnv resets on the next step only
+        vector_kwargs = {}
+    else:
+        pytest.skip(f"Gymnasium {gym.__version__}'s SyncVectorEnv has no {mode} mode")
     sync = gym.make_vec(
-        env_id,
-        num_envs=n,
-        vectorization_mode="sync",
-        vector_kwargs={"autoreset_mode": MODES[mode]},
-        **kwargs,
+        env_id, num_envs=n, vectorization_mode="sync", vector_kwargs=vector_kwargs, **kwargs
     )
     assert native.metadata["autoreset_mode"] == MODES[mode]
     assert native.single_observation_space == sync.single_observation_space
@@ -154,6 +156,36 @@ def test_collisions_are_reported_per_env(physics: str) -> None:
     if physics == "pymunk":  # the wall stops the robot
         assert poses[1, 0] > 0.1
     np.testing.assert_allclose(poses[[0, 2], 0], 0.6)
+
+
+@pytest.mark.parametrize("physics", ["kinematic", "pymunk"])
+@pytest.mark.parametrize("copy_with", ["pickle", "deepcopy"])
+def test_a_copy_mid_episode_steps_as_the_original_bit_for_bit(physics: str, copy_with: str) -> None:
+    """Pickled (AsyncVectorEnv, Ray, TorchRL's ParallelEnv) or deep-copied, collisions too."""
+    import copy
+    import pickle
+
+    envs = gym.make_vec(
+        "RadialIBVS/Parking-v0", num_envs=3, physics=physics, terminate_on_collision=False
+    )
+    envs.reset(seed=0, options={"start": [0.6, 3.0, np.pi], "goal": [7.0, 7.0, 0.0]})
+    actions = np.array([[0.2, 0.3], [1.0, 0.0], [0.5, -0.2]])
+    envs.step(actions)
+    clone = pickle.loads(pickle.dumps(envs)) if copy_with == "pickle" else copy.deepcopy(envs)
+    hit = np.zeros(3, dtype=bool)
+    for _ in range(30):
+        *mine, info = envs.step(actions)
+        *theirs, info_copy = clone.step(actions)
+        for a, b in zip(mine, theirs, strict=True):
+            if isinstance(a, dict):
+                for key in a:
+                    np.testing.assert_array_equal(a[key], b[key])
+            else:
+                np.testing.assert_array_equal(a, b)
+        np.testing.assert_array_equal(info["collision"], info_copy["collision"])
+        np.testing.assert_array_equal(info["robot_pose"], info_copy["robot_pose"])
+        hit |= info["collision"]
+    assert hit[1]  # the copy met the wall as the original did
 
 
 def test_pymunk_robots_share_one_space_and_only_meet_their_own_walls() -> None:

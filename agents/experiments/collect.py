@@ -4,13 +4,15 @@ The dataset is written locally (``DIR/<dataset_id>``, Minari's HDF5 layout); not
 hub. Its observations are the env's whole ``Dict`` observation: by default the features
 observation of the learned models (``obs_mode="features"``, goal depths, 16 landmark slots)
 plus whatever the policy needs (the planner's poses and map), so a student can be distilled
-from a teacher's dataset (the ``initial_dataset`` of :mod:`agents.learned.distill`).
+from a teacher's dataset (the ``initial_dataset`` of :mod:`agents.learned.distill`). Each
+episode keeps its ``info`` (``is_success``, the errors, the reward terms...) as Minari's
+``infos``: one row for the reset and one per step.
 """
 
 from __future__ import annotations
 
 import warnings
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -20,7 +22,7 @@ from agents.learned.datasets import datasets_path, minari_module
 from agents.registry import make_policy
 from agents.runner import make_env
 
-__all__ = ["DEFAULT_LAYOUT", "collect", "dataset_id_for"]
+__all__ = ["DEFAULT_LAYOUT", "collect", "dataset_id_for", "stack_infos"]
 
 #: the observation the learned models see, the default layout of a dataset
 DEFAULT_LAYOUT: dict[str, Any] = {
@@ -29,6 +31,29 @@ DEFAULT_LAYOUT: dict[str, Any] = {
     "max_landmarks": 16,
     "physics": "kinematic",
 }
+
+
+def stack_infos(infos: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
+    """Stack an episode's ``info`` dicts (reset's, then each step's) as Minari stores them.
+
+    Parameters
+    ----------
+    infos
+        ``T + 1`` dicts with the same keys (the envs give the same keys at reset and step).
+
+    Returns
+    -------
+    dict
+        Per key a ``(T + 1, ...)`` array; nested dicts stacked alike; text values (a pixel
+        detector's ``status``) left out, as HDF5 stores numbers.
+    """
+    out: dict[str, Any] = {}
+    for key, first in infos[0].items():
+        if isinstance(first, Mapping):
+            out[key] = stack_infos([i[key] for i in infos])
+        elif not isinstance(first, str):
+            out[key] = np.stack([np.asarray(i[key]) for i in infos])
+    return out
 
 
 def dataset_id_for(policy: str, scenario: str) -> str:
@@ -101,14 +126,16 @@ def collect(
 
     buffers, successes = [], 0
     for episode in tqdm(range(episodes), desc=f"collect {policy_name}", disable=not progress):
-        obs, _ = env.reset(seed=seed + episode)
+        obs, info = env.reset(seed=seed + episode)
         observations, actions, rewards, terminations, truncations = [obs], [], [], [], []
+        infos = [info]
         state, start, done = None, True, False
         while not done:
             action, state = policy.predict(obs, state, np.array([start]))
             action = np.asarray(action, dtype=np.float32)
             obs, reward, terminated, truncated, info = env.step(action)
             observations.append(obs)
+            infos.append(info)
             actions.append(action)
             rewards.append(float(reward))
             terminations.append(bool(terminated))
@@ -124,6 +151,7 @@ def collect(
                 rewards=rewards,
                 terminations=terminations,
                 truncations=truncations,
+                infos=stack_infos(infos),
             )
         )
     with datasets_path(out), warnings.catch_warnings():

@@ -123,7 +123,7 @@ def dagger(
     from stable_baselines3.common.running_mean_std import RunningMeanStd
     from tqdm.auto import tqdm
 
-    from agents.learned.model_files import save_model_dir
+    from agents.learned.saving import save_model_dir
     from agents.learned.sb3_vec_env import make_vec_env, spaces_env
 
     torch.set_num_threads(torch_threads)

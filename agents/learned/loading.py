@@ -12,6 +12,7 @@ normalising observations exactly as training did.
 
 from __future__ import annotations
 
+import json
 import zipfile
 from pathlib import Path
 from typing import Any
@@ -26,7 +27,7 @@ from agents.learned.model_files import (
     load_policy,
     read_normalization,
 )
-from agents.untrusted import read_json
+from agents.untrusted import check_archive, read_json
 from radial_ibvs_gym.registration import check_env_id
 
 __all__ = ["MODELS_DIR", "LearnedPolicy", "load", "shipped_models"]
@@ -233,12 +234,19 @@ def load(name_or_path: str | Path, *, trust_pickle: bool = False) -> Any:
     zipped = path.suffix == ".zip"
     directory = path.parent if zipped else path
     meta_path = directory / "metadata.json"
-    if not meta_path.is_file():
+    zip_path = path if zipped else directory / "model.zip"
+    if not has_policy_files(directory) and not meta_path.exists() and zip_path.is_file():
+        # a model.zip saved by stable-baselines3 itself: only when trusted
+        if not trust_pickle:
+            raise ValueError(f"model {label}: refusing to load {zip_path}: {_PICKLE_WARNING}")
+        metadata: Any = {"algo": _algo_of_zip(zip_path, label)}
+    elif not meta_path.is_file():
         raise ValueError(f"model {label}: {meta_path} is missing")
-    try:
-        metadata = read_json(meta_path, directory)  # bounded: size, depth, inside the folder
-    except ValueError as error:
-        raise ValueError(f"model {label}: {error}") from None
+    else:
+        try:
+            metadata = read_json(meta_path, directory)  # bounded: size, depth, inside the folder
+        except ValueError as error:
+            raise ValueError(f"model {label}: {error}") from None
     if not isinstance(metadata, dict):
         raise ValueError(f"model {label}: {meta_path} is corrupt: not a JSON object")
     for key in ("env_kwargs", "history", "residual"):
@@ -257,7 +265,6 @@ def load(name_or_path: str | Path, *, trust_pickle: bool = False) -> Any:
                 f"{directory / DESCRIPTION} says {description['algo']!r}"
             )
     else:
-        zip_path = path if zipped else directory / "model.zip"
         if not zip_path.is_file():
             raise ValueError(
                 f"model {label}: {directory / WEIGHTS} and {directory / DESCRIPTION} are missing"
@@ -265,6 +272,11 @@ def load(name_or_path: str | Path, *, trust_pickle: bool = False) -> Any:
         if not trust_pickle:
             raise ValueError(f"model {label}: refusing to load {zip_path}: {_PICKLE_WARNING}")
         model = _load_sb3_zip(zip_path, metadata, label)
+        goal_keys = {"observation", "achieved_goal", "desired_goal"}
+        if "env_id" not in metadata and set(getattr(model.observation_space, "spaces", {})) == (
+            goal_keys
+        ):
+            metadata["env_id"] = "RadialIBVS/ParkingGoal-v1"
     norm_path = directory / "normalization.npz"
     normalization = read_normalization(norm_path) if norm_path.is_file() else None
     name = str(name_or_path) if is_bare_name(name_or_path) else directory.name
@@ -280,6 +292,31 @@ def load(name_or_path: str | Path, *, trust_pickle: bool = False) -> Any:
         residual = ResidualConfig.from_mapping(metadata["residual"], f"{meta_path}: residual")
         return ResidualPolicy(learned, residual)
     return learned
+
+
+#: hyper-parameters that only one algorithm's ``model.zip`` ``data`` holds
+_ALGO_MARKS = (
+    ("top_quantiles_to_drop_per_net", "tqc"),
+    ("n_steps", "ppo"),
+    ("target_entropy", "sac"),
+)
+
+
+def _algo_of_zip(zip_path: Path, label: str) -> str:
+    """Return the algorithm of an SB3 ``model.zip`` (its ``data`` entry read as plain JSON)."""
+    try:
+        check_archive(zip_path, zip_path.parent)
+        with zipfile.ZipFile(zip_path) as archive:
+            data = json.loads(archive.read("data"))
+    except (zipfile.BadZipFile, KeyError, ValueError, RecursionError) as error:
+        raise ValueError(f"model {label}: {zip_path} is corrupt: {str(error)[:300]}") from None
+    for key, algo in _ALGO_MARKS:
+        if isinstance(data, dict) and key in data:
+            return algo
+    raise ValueError(
+        f"model {label}: cannot tell the algorithm of {zip_path}; add a metadata.json with "
+        '{"algo": "ppo"} (or "sac", "tqc") beside it'
+    )
 
 
 def _load_sb3_zip(zip_path: Path, metadata: dict[str, Any], label: str) -> Any:

@@ -26,7 +26,7 @@ from typing import Any
 
 import numpy as np
 
-from agents.io import write_atomic, write_json
+from agents.io import write_atomic
 from agents.learned.policy_size import (
     check_finite_weights,
     check_policy_size,
@@ -42,7 +42,6 @@ __all__ = [
     "has_policy_files",
     "load_policy",
     "read_normalization",
-    "save_model_dir",
     "save_normalization",
     "save_policy",
     "space_from_json",
@@ -382,65 +381,3 @@ def read_normalization(path: Path | str) -> dict[str, Any]:
             }
     except (OSError, KeyError, ValueError, zipfile.BadZipFile) as error:
         raise ValueError(f"{path} is corrupt: {str(error)[:300]}") from None
-
-
-def save_model_dir(
-    model: Any,
-    directory: Path | str,
-    *,
-    env_id: str,
-    env_kwargs: dict[str, Any] | None = None,
-    normalization: Any = None,
-    metadata: dict[str, Any] | None = None,
-) -> Path:
-    """Make a model trained with stable-baselines3 loadable by :func:`agents.load`.
-
-    Writes ``policy.safetensors``, ``policy.json``, ``metadata.json`` and, given the
-    ``VecNormalize`` used in training, ``normalization.npz``.
-
-    Parameters
-    ----------
-    model
-        A trained ``PPO`` or ``SAC`` model.
-    directory
-        The model directory to write (created).
-    env_id
-        The Gymnasium id it was trained on, e.g. ``"RadialIBVS/Parking-v0"``.
-    env_kwargs
-        The ``gym.make`` keyword arguments it was trained with (the observation layout:
-        ``scenario``, ``obs_mode``, ``goal_depths``, ``max_landmarks``...).
-    normalization
-        The training ``VecNormalize``, if observations were normalised.
-    metadata
-        More entries for ``metadata.json``.
-
-    Returns
-    -------
-    pathlib.Path
-        ``directory``.
-
-    Examples
-    --------
-    >>> from stable_baselines3 import PPO
-    >>> from agents import load, make_vec_env
-    >>> venv = make_vec_env("RadialIBVS/Parking-v0", 4, seed=0, physics="kinematic")
-    >>> model = PPO("MultiInputPolicy", venv).learn(2048)  # doctest: +SKIP
-    >>> save_model_dir(model, "my-model", env_id="RadialIBVS/Parking-v0",
-    ...                env_kwargs={"physics": "kinematic"})  # doctest: +SKIP
-    >>> load("my-model")  # doctest: +SKIP
-    """
-    algo = next((k for k, cls in algorithms().items() if isinstance(model, cls)), None)
-    if algo is None:
-        raise ValueError(f"model must be one of {sorted(algorithms())}, got {type(model).__name__}")
-    out = Path(directory)
-    save_policy(model, out, algo)
-    if normalization is not None:
-        save_normalization(normalization, out / "normalization.npz")
-    meta = {
-        "algo": algo,
-        "env_id": env_id,
-        "env_kwargs": dict(env_kwargs or {}),
-        **(metadata or {}),
-    }
-    write_json(out / "metadata.json", meta)
-    return out

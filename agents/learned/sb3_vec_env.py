@@ -18,6 +18,7 @@ import numpy as np
 from stable_baselines3.common.vec_env import VecEnv, VecMonitor
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
+from radial_ibvs_gym.envs.autoreset import AutoresetMode
 from radial_ibvs_gym.registration import VECTOR_ENTRY_POINTS
 
 __all__ = ["NativeVecEnv", "make_vec_env", "spaces_env"]
@@ -42,7 +43,7 @@ class NativeVecEnv(VecEnv):
     """
 
     def __init__(self, env: Any) -> None:
-        if env.metadata.get("autoreset_mode") != gym.vector.AutoresetMode.SAME_STEP:
+        if env.metadata.get("autoreset_mode") != AutoresetMode.SAME_STEP:
             raise ValueError("NativeVecEnv needs a vector env with autoreset_mode='same_step'")
         self.env = env
         super().__init__(env.num_envs, env.single_observation_space, env.single_action_space)

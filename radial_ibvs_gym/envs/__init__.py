@@ -1,6 +1,6 @@
 """Gymnasium environments, registered on ``import radial_ibvs_gym`` (by entry-point strings)."""
 
-from radial_ibvs_gym.envs.config import ParkingConfig
+from radial_ibvs_gym.envs.config import ParkingConfig, UnknownArgumentError
 from radial_ibvs_gym.envs.parking import ParkingEnv
 from radial_ibvs_gym.envs.parking_goal import ParkingGoalEnv
 from radial_ibvs_gym.envs.parking_image import ParkingImageEnv
@@ -13,5 +13,6 @@ __all__ = [
     "ParkingEnv",
     "ParkingGoalEnv",
     "ParkingImageEnv",
+    "UnknownArgumentError",
     "register_envs",
 ]

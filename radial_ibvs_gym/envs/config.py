@@ -27,7 +27,18 @@ from radial_ibvs_gym.limits import MAX_SUBSTEPS
 from radial_ibvs_gym.physics import BACKENDS, RobotConfig
 from radial_ibvs_gym.scenarios import Scenario, ScenarioConfig, load_scenario
 
-__all__ = ["OBS_MODES", "REWARD_WEIGHTS", "ParkingConfig"]
+__all__ = ["OBS_MODES", "REWARD_WEIGHTS", "ParkingConfig", "UnknownArgumentError"]
+
+
+class UnknownArgumentError(TypeError, ValueError):
+    """An argument the env does not take, worded as Python's own ``TypeError``.
+
+    Python says ``f() got an unexpected keyword argument 'x'`` for a function's unknown
+    argument; libraries that pass optional arguments to ``gym.make`` (TorchRL's ``GymEnv``
+    passes ``frameskip``) catch that ``TypeError`` and retry without them. It is also a
+    ``ValueError``, as every bad argument of these envs is.
+    """
+
 
 OBS_MODES = ("points", "features")
 
@@ -96,7 +107,11 @@ class ParkingConfig:
 
     @classmethod
     def from_kwargs(
-        cls, scenario: str | Path = "paper-sim", extra: tuple[str, ...] = (), **kwargs: Any
+        cls,
+        scenario: str | Path = "paper-sim",
+        extra: tuple[str, ...] = (),
+        owner: str = "ParkingEnv.__init__",
+        **kwargs: Any,
     ) -> ParkingConfig:
         """Validate the env's keyword arguments and load the scenario.
 
@@ -106,13 +121,18 @@ class ParkingConfig:
             A shipped scenario's name or a YAML path.
         extra
             Argument names that the calling env takes itself (listed in the error message).
+        owner
+            The function that takes these arguments, as an unknown one's error names it.
         **kwargs
             The config's fields, and scenario keys (overrides, e.g. ``depth_scale=1.3``).
 
         Raises
         ------
+        UnknownArgumentError
+            For an unknown keyword (with a did-you-mean and the valid names): a ``TypeError``
+            worded as Python's, and a ``ValueError``.
         ValueError
-            For an unknown keyword (with a did-you-mean and the valid names) or a bad value.
+            For a bad value.
         """
         own = {f.name for f in dataclasses.fields(cls)} - {"scenario"}
         scenario_keys = sorted(f.name for f in dataclasses.fields(ScenarioConfig))
@@ -120,9 +140,10 @@ class ParkingConfig:
         if unknown:
             arguments = sorted({*cls.argument_names(), *extra, "render_mode"})
             hint = did_you_mean(unknown[0], [*arguments, *scenario_keys])
-            raise ValueError(
-                f"unknown argument(s) {short(unknown)}{hint}; the env's arguments: {arguments}; "
-                f"scenario keys (overrides): {scenario_keys}"
+            raise UnknownArgumentError(
+                f"{owner}() got an unexpected keyword argument {unknown[0]!r}{hint}; unknown: "
+                f"{short(unknown)}; the env's arguments: {arguments}; scenario keys "
+                f"(overrides): {scenario_keys}"
             )
         overrides = {k: v for k, v in kwargs.items() if k not in own}
         fields = {k: v for k, v in kwargs.items() if k in own}

@@ -98,15 +98,15 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     fewer than ``min_visible`` detected beacons is drawn again (at most 10 times).
 
     ## Rewards
-    ``r = progress + heading + precision + time + collision + lost + success`` (named in
-    ``info["reward_terms"]``): ``progress = w_position (e_p(t-1) - e_p(t))`` (position error in
-    metres), ``heading = w_heading (e_h(t-1) - e_h(t))`` (radians), ``precision =
-    w_precision (phi(t) - phi(t-1))`` with the potential ``phi = -ln(e_p + 0.01) - 0.5
-    ln(e_h + 0.02)`` (potential-based shaping: it sharpens the reward near the goal, where
-    learned policies need centimetre precision, without changing the optimal policy; off by
-    default), ``time = -time_penalty``, ``collision = -collision_penalty`` on a collision,
-    ``lost = -lost_penalty`` when too few landmarks remain visible, ``success = success_bonus``
-    on success.
+    ``r = progress + heading + precision + time + collision + lost + success`` (each in
+    ``info["reward_<term>"]``, zeros after ``reset``): ``progress = w_position (e_p(t-1) -
+    e_p(t))`` (position error in metres), ``heading = w_heading (e_h(t-1) - e_h(t))``
+    (radians), ``precision = w_precision (phi(t) - phi(t-1))`` with the potential
+    ``phi = -ln(e_p + 0.01) - 0.5 ln(e_h + 0.02)`` (potential-based shaping: it sharpens the
+    reward near the goal, where learned policies need centimetre precision, without changing
+    the optimal policy; off by default), ``time = -time_penalty``, ``collision =
+    -collision_penalty`` on a collision, ``lost = -lost_penalty`` when too few landmarks remain
+    visible, ``success = success_bonus`` on success.
 
     ## Starting State
     Drawn from the scenario (``paper-sim``: start (3, 3) m heading 0, goal (7, 7) m with the
@@ -163,6 +163,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     """
 
     metadata: dict[str, Any] = {"render_modes": ["human", "rgb_array"], "render_fps": 10}  # noqa: RUF012
+    #: the reward terms (``info["reward_<term>"]``), in the order they are summed
+    reward_term_names: tuple[str, ...] = rules.REWARD_TERMS
 
     #: the arguments a subclass takes itself (named in the unknown-argument message)
     _own_arguments: tuple[str, ...] = ()
@@ -177,7 +179,10 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             )
         #: the validated arguments (shared with the native vector env)
         self.config = config = ParkingConfig.from_kwargs(
-            scenario, extra=type(self)._own_arguments, **kwargs
+            scenario,
+            extra=type(self)._own_arguments,
+            owner=f"{type(self).__name__}.__init__",
+            **kwargs,
         )
         self.render_mode = render_mode
         self._detector: DetectedPoints | None = None
@@ -277,7 +282,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         )
         self._prev_errors = now
         info = self._info(result.pose, now, bool(success), result.collision, bool(lost))
-        info["reward_terms"] = terms
+        info |= rules.reward_info(terms)
         if self.render_mode is not None:
             self._trail.append(result.pose[:2].copy())
         if self.render_mode == "human":
@@ -318,6 +323,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         if self.render_mode == "human":
             self.render()
         info = self._info(episode.start, self._prev_errors, False, False)
+        info |= rules.reward_info(dict.fromkeys(self.reward_term_names, 0.0))
         return self._obs(), info
 
     def setup_episode(

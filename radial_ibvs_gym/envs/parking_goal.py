@@ -63,11 +63,13 @@ class GoalReward:
     config: ParkingConfig
     goal_reward_power: float
     goal_image_tolerance: float
+    #: the reward terms (``info["reward_<term>"]``), in the order they are summed
+    reward_term_names: tuple[str, ...] = rules.GOAL_REWARD_TERMS
 
     def reward_terms_of(
         self, achieved_goal: np.ndarray, desired_goal: np.ndarray, info: Any
     ) -> dict[str, np.ndarray]:
-        """Return the named terms of :meth:`compute_reward` (a step's ``info["reward_terms"]``)."""
+        """Return the named terms of :meth:`compute_reward` (a step's ``info["reward_<term>"]``)."""
         return rules.goal_reward_terms(
             achieved_goal,
             desired_goal,
@@ -166,10 +168,16 @@ class ParkingGoalEnv(GoalReward, ParkingEnv):
     ) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
         """Step as :class:`ParkingEnv`; the reward is :meth:`compute_reward` of the step."""
         obs, _, terminated, truncated, info = super().step(action)
-        terms = self.reward_terms_of(obs["achieved_goal"], obs["desired_goal"], info)
-        info["reward_terms"] = {k: float(v) for k, v in terms.items()}
-        reward = sum(info["reward_terms"].values())  # = compute_reward of the step (tested)
+        for key in rules.reward_info(dict.fromkeys(rules.REWARD_TERMS)):
+            del info[key]  # Parking-v0's terms: this env's are the goal reward's
+        terms = {k: float(v) for k, v in self.reward_terms_of(*self._goals(obs), info).items()}
+        info |= rules.reward_info(terms)
+        reward = sum(terms.values())  # = compute_reward of the step (tested)
         return obs, reward, terminated, truncated, info
+
+    @staticmethod
+    def _goals(obs: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
+        return obs["achieved_goal"], obs["desired_goal"]
 
     def _obs(self) -> dict[str, np.ndarray]:
         assert self._setup is not None

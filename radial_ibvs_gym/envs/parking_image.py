@@ -11,7 +11,10 @@ from radial_ibvs_gym.envs.parking import ParkingEnv
 from radial_ibvs_gym.vision import ImageQuality, OmniRenderer, RoomScene
 from radial_ibvs_gym.vision.pipeline import room_scene
 
-__all__ = ["ParkingImageEnv"]
+__all__ = ["IMAGE_LAYOUTS", "ParkingImageEnv"]
+
+#: the observation layouts of ``ParkingImage-v0`` (``image_layout``)
+IMAGE_LAYOUTS = ("dict", "channels")
 
 _POINT_ONLY = ("obs_mode", "privileged", "goal_depths", "measurement")
 
@@ -21,13 +24,16 @@ class ParkingImageEnv(ParkingEnv):
 
     Same dynamics, actions, rewards, episode end, ``info`` and arguments as :class:`ParkingEnv`
     (the episode still ends "lost" when fewer than ``min_visible`` landmarks are in view). The
-    observation is a ``Dict`` of two channel-last grey images, as stable-baselines3's
-    ``MultiInputPolicy`` (one CNN per image) expects:
+    observation is two channel-last grey images, in one of two layouts (``image_layout``):
 
-    | key | space | meaning |
-    |---|---|---|
-    | ``image`` | ``Box(0, 255, (S, S, 1), uint8)`` | the current omnidirectional image |
-    | ``goal_image`` | ``Box(0, 255, (S, S, 1), uint8)`` | the image taken at the goal pose |
+    - ``"dict"`` (default): ``Dict(image=Box(0, 255, (S, S, 1), uint8), goal_image=...)``,
+      for SB3's ``MultiInputPolicy`` (one CNN per image);
+    - ``"channels"``: ``Box(0, 255, (S, S, 2), uint8)``, channel 0 the current image and
+      channel 1 the goal image, for SB3's ``CnnPolicy``, Gymnasium's image wrappers
+      (``ResizeObservation``, ``FrameStackObservation``) and libraries that take a ``Box``.
+
+    ``image`` is the current omnidirectional image, ``goal_image`` the image taken at the goal
+    pose.
 
     Parameters
     ----------
@@ -38,12 +44,21 @@ class ParkingImageEnv(ParkingEnv):
         at 84 x 84 from across the room).
     image_noise, image_blur, exposure
         Sensor noise (grey levels), blur (pixels) and exposure of both images.
+    image_layout
+        ``"dict"`` or ``"channels"`` (the list above).
     **kwargs
         :class:`ParkingEnv`'s arguments; the point-observation ones (``obs_mode``,
         ``privileged``, ``goal_depths``, ``measurement``) are refused.
     """
 
-    _own_arguments = ("image_size", "beacon_radius", "image_noise", "image_blur", "exposure")
+    _own_arguments = (
+        "image_size",
+        "beacon_radius",
+        "image_noise",
+        "image_blur",
+        "exposure",
+        "image_layout",
+    )
 
     def __init__(
         self,
@@ -53,8 +68,11 @@ class ParkingImageEnv(ParkingEnv):
         image_noise: float = 0.0,
         image_blur: float = 0.0,
         exposure: float = 1.0,
+        image_layout: str = "dict",
         **kwargs: Any,
     ) -> None:
+        if image_layout not in IMAGE_LAYOUTS:
+            raise ValueError(f"unknown image_layout {image_layout!r}; valid: {list(IMAGE_LAYOUTS)}")
         refused = sorted(set(kwargs) & set(_POINT_ONLY))
         if refused:
             raise ValueError(f"ParkingImage-v0 observes images; it has no {refused} argument")
@@ -70,8 +88,13 @@ class ParkingImageEnv(ParkingEnv):
             if self.scenario.goal_camera is not self.scenario.camera
             else self._image_renderer
         )
-        box = spaces.Box(0, 255, (image_size, image_size, 1), np.uint8)
-        self.observation_space = spaces.Dict({"image": box, "goal_image": box})  # type: ignore[assignment]
+        self.image_layout = image_layout
+        if image_layout == "channels":
+            both = spaces.Box(0, 255, (image_size, image_size, 2), np.uint8)
+            self.observation_space = both  # type: ignore[assignment]
+        else:
+            box = spaces.Box(0, 255, (image_size, image_size, 1), np.uint8)
+            self.observation_space = spaces.Dict({"image": box, "goal_image": box})  # type: ignore[assignment]
         self._scene: RoomScene | None = None
         self._goal_image: np.ndarray | None = None
 
@@ -82,7 +105,7 @@ class ParkingImageEnv(ParkingEnv):
         self._goal_image = None
         return super().reset(seed=seed, options=options)
 
-    def _obs(self) -> dict[str, np.ndarray]:
+    def _obs(self) -> Any:
         assert self.world is not None and self.episode is not None
         if self._goal_image is None:
             self._scene = room_scene(self.episode.room, self.episode.landmarks, self.beacon_radius)
@@ -94,4 +117,6 @@ class ParkingImageEnv(ParkingEnv):
         image = self._image_renderer.render(
             self.world.pose, self._scene, self.quality, self.np_random
         )
+        if self.image_layout == "channels":
+            return np.concatenate([image[..., None], self._goal_image], axis=-1)
         return {"image": image[..., None], "goal_image": self._goal_image.copy()}

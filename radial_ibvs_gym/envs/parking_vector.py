@@ -24,12 +24,13 @@ from typing import Any
 import numpy as np
 from gymnasium import spaces
 from gymnasium.utils import seeding
-from gymnasium.vector import AutoresetMode, VectorEnv
+from gymnasium.vector import VectorEnv
 from gymnasium.vector.utils import batch_space
 from numpy.typing import NDArray
 
 from radial_ibvs_gym.envs import observation as seen
 from radial_ibvs_gym.envs import rules
+from radial_ibvs_gym.envs.autoreset import AutoresetMode
 from radial_ibvs_gym.envs.config import ParkingConfig
 from radial_ibvs_gym.envs.episodes import EpisodeSetup, EpisodeSource
 from radial_ibvs_gym.envs.rules import IMPERFECTION_KEYS
@@ -92,6 +93,8 @@ class ParkingVectorEnv(VectorEnv):
     """
 
     metadata: dict[str, Any] = {"autoreset_mode": AutoresetMode.NEXT_STEP}  # noqa: RUF012
+    #: the reward terms (``info["reward_<term>"]``), in the order they are summed
+    reward_term_names: tuple[str, ...] = rules.REWARD_TERMS
     #: the arguments a subclass takes itself (named in the unknown-argument message)
     _own_arguments: tuple[str, ...] = ()
 
@@ -131,7 +134,9 @@ class ParkingVectorEnv(VectorEnv):
         if max_episode_steps is not None and max_episode_steps < 1:
             raise ValueError(f"max_episode_steps must be >= 1, got {max_episode_steps!r}")
         #: the validated arguments, as the scalar env holds them
-        self.config = config = ParkingConfig.from_kwargs(extra=self._own_arguments, **kwargs)
+        self.config = config = ParkingConfig.from_kwargs(
+            extra=self._own_arguments, owner=f"{type(self).__name__}.__init__", **kwargs
+        )
         self.episodes = EpisodeSource(config)
         self.num_envs = n = int(num_envs)
         self.autoreset_mode = autoreset_mode
@@ -334,8 +339,7 @@ class ParkingVectorEnv(VectorEnv):
             else np.zeros(n, dtype=bool)
         )
         info = self._info(poses, now, success, collision, n_visible, lost)
-        info["reward_terms"] = masked(terms, np.ones(n, dtype=bool))
-        info["_reward_terms"] = np.ones(n, dtype=bool)
+        info |= masked(rules.reward_info(terms), np.ones(n, dtype=bool))
         obs = self._observation()
         if resetting is not None:
             if resetting.any():
@@ -510,7 +514,7 @@ class ParkingVectorEnv(VectorEnv):
     def _reset_values(self, indices: NDArray[np.intp]) -> dict[str, Any]:
         """Return the reset ``info`` values of the envs ``indices`` (rows of each key)."""
         no = np.zeros(len(indices), dtype=bool)
-        return rules.info_values(
+        values = rules.info_values(
             self.fleet.poses[indices],
             self._goals[indices],
             (self._prev[0][indices], self._prev[1][indices]),
@@ -522,6 +526,8 @@ class ParkingVectorEnv(VectorEnv):
             self._goal_depths[indices],
             self._imperfections_info(indices),
         )
+        zero = np.zeros(len(indices))
+        return values | rules.reward_info({k: zero for k in self.reward_term_names})
 
     def _reset_info(self, indices: NDArray[np.intp]) -> dict[str, Any]:
         """Return the ``info`` of :meth:`reset`: the reset envs' rows, the others masked."""
@@ -532,13 +538,6 @@ class ParkingVectorEnv(VectorEnv):
     def _merge_reset_info(self, info: dict[str, Any], indices: NDArray[np.intp]) -> None:
         """Replace the entries of the envs just reset by their reset info (as SyncVectorEnv)."""
         put(info, self._reset_values(indices), indices)
-        terms = info["reward_terms"]
-        for key in [k for k in terms if not k.startswith("_")]:
-            terms[key][indices] = 0.0
-            terms[f"_{key}"][indices] = False
-        info["_reward_terms"][indices] = False
-        if not info["_reward_terms"].any():  # no env stepped: no env reports the key
-            del info["reward_terms"], info["_reward_terms"]
 
     def close_extras(self, **kwargs: Any) -> None:
         """Release the physics."""

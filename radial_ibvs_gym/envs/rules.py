@@ -38,11 +38,42 @@ __all__ = [
     "pose_errors",
     "potential",
     "real_actions",
+    "reward_info",
     "reward_terms",
+    "reward_terms_in",
 ]
 
-#: the reward terms, in the order they are summed (``info["reward_terms"]``)
+#: the reward terms, in the order they are summed (``info["reward_<term>"]``)
 REWARD_TERMS = ("progress", "heading", "precision", "time", "collision", "lost", "success")
+
+
+def reward_info(terms: Mapping[str, Any]) -> dict[str, Any]:
+    """Return the reward terms as ``info``'s flat keys, ``reward_<term>``.
+
+    Flat scalar keys (not one nested dict) so that every ``info`` value is a number or an
+    array, as Minari's ``DataCollector(record_infos=True)`` and TorchRL's info readers take
+    them. The envs put them in the ``info`` of ``reset`` too (zeros), so both have one shape.
+
+    Parameters
+    ----------
+    terms
+        Term name -> value (a float, or a ``(B,)`` array for a batch).
+
+    Returns
+    -------
+    dict
+        ``reward_<term>`` -> value, in the order of ``terms``.
+    """
+    return {f"reward_{name}": value for name, value in terms.items()}
+
+
+def reward_terms_in(info: Mapping[str, Any]) -> dict[str, Any]:
+    """Return the reward terms of a step's ``info`` (the inverse of :func:`reward_info`).
+
+    Their sum is the step's reward. ``{"progress": ..., "heading": ..., ...}`` for
+    ``Parking-v0``, ``{"image_distance": ..., ...}`` for ``ParkingGoal-v1``.
+    """
+    return {k[len("reward_") :]: v for k, v in info.items() if k.startswith("reward_")}
 
 
 #: the one rule for actions, in the scalar and the vector envs alike
@@ -284,7 +315,7 @@ def goal_reward_terms(
     }
 
 
-#: the keys of ``info`` after ``reset`` and ``step`` (``reward_terms`` after ``step`` only)
+#: the keys of ``info`` after ``reset`` and ``step``, beside the reward terms' ``reward_<term>``
 INFO_KEYS = (
     "robot_pose",
     "goal_pose",

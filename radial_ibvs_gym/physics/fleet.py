@@ -322,6 +322,27 @@ class PymunkFleet(Fleet):
         self._read |= pymunk.batch.BodyFields.ANGULAR_VELOCITY
         self._write = pymunk.batch.BodyFields.VELOCITY | pymunk.batch.BodyFields.ANGULAR_VELOCITY
 
+    #: what ``pickle`` and ``copy.deepcopy`` leave out (modules, pymunk.batch's C buffers),
+    #: rebuilt by ``__setstate__``; the space, its bodies and handlers pickle as pymunk does
+    _UNPICKLED = ("_pymunk", "_batch", "_buffer", "_writer", "_out", "_read", "_write")
+
+    def __getstate__(self) -> dict[str, Any]:
+        """Return the fleet's state without modules and C buffers (so the vector env pickles)."""
+        return {k: v for k, v in self.__dict__.items() if k not in self._UNPICKLED}
+
+    def __setstate__(self, state: dict[str, Any]) -> None:
+        """Restore a pickled fleet: re-import pymunk and make new buffers."""
+        import pymunk
+        import pymunk.batch
+
+        self.__dict__.update(state)
+        self._pymunk, self._batch = pymunk, pymunk.batch
+        self._buffer, self._writer = pymunk.batch.Buffer(), pymunk.batch.Buffer()
+        self._out = None
+        fields = pymunk.batch.BodyFields
+        self._read = fields.ANGLE | fields.VELOCITY | fields.ANGULAR_VELOCITY
+        self._write = fields.VELOCITY | fields.ANGULAR_VELOCITY
+
     @property
     def poses(self) -> Array:  # noqa: D102
         if self._poses_cache is None:  # read from pymunk once per step or reset
