@@ -337,7 +337,7 @@ def run_episode(
         policy=policy_name or type(policy).__name__,
         scenario=base.scenario.config.name if hasattr(base, "scenario") else "?",
         physics=getattr(base, "physics", "?"),
-        task=info.get("task"),
+        task=None if info.get("task") is None else int(info["task"]),
         seed=seed,
         control_dt=float(getattr(base, "control_dt", float("nan"))),
         poses=np.array(poses, dtype=np.float64),

@@ -56,7 +56,8 @@ class _RegisterAfterGymnasium(importlib.abc.MetaPathFinder, importlib.abc.Loader
     ) -> importlib.machinery.ModuleSpec | None:
         if fullname != "gymnasium":
             return None
-        self.remove()
+        # not removed here: importlib.util.find_spec("gymnasium") (TorchRL's check that it is
+        # installed) asks for a spec without importing; the hook goes once Gymnasium has run
         spec = importlib.machinery.PathFinder.find_spec(fullname, path)
         if spec is None or spec.loader is None:
             return spec  # not installed: the import fails as it would without the hook
@@ -68,6 +69,7 @@ class _RegisterAfterGymnasium(importlib.abc.MetaPathFinder, importlib.abc.Loader
         return self._loader.create_module(spec)
 
     def exec_module(self, module: ModuleType) -> None:
+        self.remove()
         module.__loader__ = module.__spec__.loader = self._loader  # type: ignore[union-attr]
         self._loader.exec_module(module)
         _register()

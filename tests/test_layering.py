@@ -236,6 +236,9 @@ def test_importing_the_vision_and_the_physics_loads_no_rl_stack() -> None:
         "import radial_ibvs_gym; import gymnasium as gym",
         "import gymnasium as gym; import radial_ibvs_gym",
         "import radial_ibvs_gym.camera; import gymnasium as gym",
+        # TorchRL asks whether Gymnasium is installed before it imports it
+        "import radial_ibvs_gym, importlib.util; importlib.util.find_spec('gymnasium'); "
+        "import gymnasium as gym",
     ],
 )
 def test_the_envs_are_registered_whichever_is_imported_first(statement: str) -> None:

@@ -282,7 +282,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         )
         self._prev_errors = now
         info = self._info(result.pose, now, bool(success), result.collision, bool(lost))
-        info |= rules.reward_info(terms)
+        info |= rules.reward_info({k: np.float64(v) for k, v in terms.items()})
         if self.render_mode is not None:
             self._trail.append(result.pose[:2].copy())
         if self.render_mode == "human":
@@ -323,7 +323,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         if self.render_mode == "human":
             self.render()
         info = self._info(episode.start, self._prev_errors, False, False)
-        info |= rules.reward_info(dict.fromkeys(self.reward_term_names, 0.0))
+        info |= rules.reward_info(dict.fromkeys(self.reward_term_names, np.float64(0.0)))
         return self._obs(), info
 
     def setup_episode(

@@ -170,9 +170,9 @@ class ParkingGoalEnv(GoalReward, ParkingEnv):
         obs, _, terminated, truncated, info = super().step(action)
         for key in rules.reward_info(dict.fromkeys(rules.REWARD_TERMS)):
             del info[key]  # Parking-v0's terms: this env's are the goal reward's
-        terms = {k: float(v) for k, v in self.reward_terms_of(*self._goals(obs), info).items()}
-        info |= rules.reward_info(terms)
-        reward = sum(terms.values())  # = compute_reward of the step (tested)
+        terms = self.reward_terms_of(*self._goals(obs), info)
+        info |= rules.reward_info({k: np.float64(v) for k, v in terms.items()})
+        reward = float(sum(float(v) for v in terms.values()))  # = compute_reward (tested)
         return obs, reward, terminated, truncated, info
 
     @staticmethod

@@ -363,7 +363,10 @@ def info_values(
     -------
     dict
         :data:`INFO_KEYS`, plus ``camera_imperfections`` when drawn; ``heading_error_deg``
-        in degrees.
+        in degrees. One env's numbers are numpy scalars (``np.float64``, ``np.int64``) or
+        arrays, each with a ``dtype`` as TorchRL's info reader needs; its flags
+        (``is_success``, ``collision``, ``lost``) are Python bools, which Gymnasium's vector
+        envs batch as bool arrays.
     """
     batched = np.ndim(errors[0]) > 0
     values: dict[str, Any] = {
@@ -381,14 +384,16 @@ def info_values(
             "task": np.array(task, dtype=np.int64),
         }
     else:
+        # numbers as numpy scalars (TorchRL's info reader reads each value's dtype), flags as
+        # Python bools (Gymnasium's SyncVectorEnv batches np.bool_ as an object array)
         values |= {
-            "position_error_m": float(errors[0]),
-            "heading_error_deg": math.degrees(float(errors[1])),
+            "position_error_m": np.float64(errors[0]),
+            "heading_error_deg": np.float64(math.degrees(float(errors[1]))),
             "is_success": bool(success),
             "collision": bool(collision),
             "lost": bool(lost),
-            "n_visible": int(n_visible),
-            "task": task,
+            "n_visible": np.int64(n_visible),
+            "task": np.int64(task),
         }
     values["goal_depths"] = np.array(goal_depths)
     if imperfections is not None:
