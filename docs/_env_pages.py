@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import inspect
+import re
 import shutil
 from pathlib import Path
 
@@ -53,11 +54,50 @@ def write_env_pages(folder: Path) -> None:
 
 
 def _demote(doc: str) -> str:
-    """Return the docstring with its ``## Heading`` lines one level below the page title."""
-    out = []
-    for line in doc.splitlines():
+    """Return the docstring as the page's MyST Markdown.
+
+    ``## Heading`` lines go one level below the page title; Sphinx roles (``:class:`X```)
+    become MyST's (``{class}`X```); the numpy-style ``Parameters`` section becomes a table.
+    """
+    doc = re.sub(r":(class|mod|func|meth|attr|data|exc):`", r"{\1}`", doc)
+    out: list[str] = []
+    lines = doc.splitlines()
+    k = 0
+    while k < len(lines):
+        line = lines[k]
+        if line.strip() == "Parameters" and k + 1 < len(lines) and set(lines[k + 1]) == {"-"}:
+            table, k = _parameters(lines, k + 2)
+            out += ["### Parameters", "", *table]
+            continue
         out.append("#" + line if line.startswith("## ") else line)
+        k += 1
     return "\n".join(out)
+
+
+def _parameters(lines: list[str], k: int) -> tuple[list[str], int]:
+    """Return the numpy-style entries from ``lines[k]`` as a table, and the index after them."""
+    entries: list[tuple[str, list[str]]] = []
+    while k < len(lines) and (
+        lines[k].strip() == ""
+        or lines[k].startswith((" ", "*"))
+        or (
+            lines[k]
+            and not lines[k].startswith("#")
+            and k + 1 < len(lines)
+            and lines[k + 1].startswith("    ")
+        )
+    ):
+        line = lines[k]
+        if line.strip() and not line.startswith(" "):
+            entries.append((line.strip(), []))
+        elif line.strip() and entries:
+            entries[-1][1].append(line.strip())
+        k += 1
+    table = ["| argument | meaning |", "|---|---|"]
+    for name, text in entries:
+        names = ", ".join(f"`{n.strip()}`" for n in name.split(","))
+        table.append(f"| {names} | {' '.join(text).replace('|', '&#124;')} |")
+    return [*table, ""], k
 
 
 def copy_notebooks(source: Path, folder: Path) -> None:

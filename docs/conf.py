@@ -20,6 +20,7 @@ release = version = __version__
 
 extensions = [
     "myst_nb",  # MyST Markdown pages, and the notebooks rendered from their stored outputs
+    "sphinx_design",  # the front page's cards
     "sphinx.ext.autodoc",
     "sphinx.ext.napoleon",
     "sphinx.ext.mathjax",

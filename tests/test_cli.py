@@ -61,3 +61,29 @@ def test_help_texts_print_percent_signs_once_and_the_version_is_there(capsys) ->
     with pytest.raises(SystemExit):
         main(["--version"])
     assert capsys.readouterr().out.strip() == f"radial-ibvs {__version__}"
+
+
+@pytest.mark.parametrize("command", ["evaluate", "benchmark", "render", "collect"])
+def test_help_lists_every_policy_and_the_extra_each_needs(
+    command: str, capsys: pytest.CaptureFixture[str]
+) -> None:
+    from agents.analytic.registry import DESCRIPTIONS, EXTRAS
+    from agents.experiments.suites import SUITES
+    from agents.learned import shipped_models
+    from agents.registry import POLICY_NAMES
+
+    with pytest.raises(SystemExit):
+        main([command, "--help"])
+    text = capsys.readouterr().out
+    listed = [line.split()[0] for line in text.splitlines() if line.startswith("  ")]
+    for name in [*POLICY_NAMES, *shipped_models()]:
+        assert name in listed, name
+    assert set(DESCRIPTIONS) <= set(POLICY_NAMES)  # every description names a policy
+    for name, extra in EXTRAS.items():
+        assert any(
+            line.split()[0] == name and f"[extra: {extra}]" in line
+            for line in text.splitlines()
+            if line.startswith("  ")
+        ), name
+    if command == "benchmark":
+        assert all(suite in listed for suite in SUITES)

@@ -101,3 +101,28 @@ def test_the_command_writes_the_report_and_curves(tmp_path: Path, capsys):
     assert (out / "dagger-curves.png").stat().st_size > 1000
     assert main(["report", str(rows), "--seeds", "oops"]) == 2
     assert "--seeds takes NAME=VALUE" in capsys.readouterr().err
+
+
+def test_into_regenerates_the_marked_block_and_keeps_the_rest(tmp_path: Path) -> None:
+    rows = tmp_path / "episodes.json"
+    rows.write_text(json.dumps(_rows()))
+    page = tmp_path / "README.md"
+    page.write_text("# Title\n\n<!-- results:start -->\nold\n<!-- results:end -->\n\nafter\n")
+    argv = ["report", str(rows), "--policies", "planner", "ibvs", "--into", str(page)]
+    argv += [
+        "--variants",
+        "paper: task 0",
+        "held-out: random",
+        "--heatmap",
+        str(tmp_path / "h.png"),
+    ]
+    assert main(argv) == 0
+    text = page.read_text()
+    assert text.startswith("# Title\n\n<!-- results:start -->\n") and text.endswith("after\n")
+    assert "old" not in text and "| held-out: random | 20 | 100 (84-100) | 75 (53-89) |" in text
+    assert text.index("paper: task 0") < text.index("held-out: random")  # the order given
+    assert "how episodes ended" not in text
+    assert f"by `radial-ibvs report {rows}" in text  # the command that regenerates it
+    assert (tmp_path / "h.png").stat().st_size > 0
+    page.write_text("no markers\n")
+    assert main(["report", str(rows), "--into", str(page)]) == 2

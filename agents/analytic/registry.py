@@ -15,7 +15,7 @@ from agents.analytic.ibvs_straight import StraightIBVSPolicy
 from agents.analytic.planner import MapPlanner
 from agents.analytic.pose_oracle import PoseOracle
 
-__all__ = ["ANALYTIC_POLICIES", "make_analytic"]
+__all__ = ["ANALYTIC_POLICIES", "DESCRIPTIONS", "EXTRAS", "make_analytic"]
 
 ANALYTIC_POLICIES: dict[str, Callable[..., Any]] = {
     "ibvs": lambda **kw: IBVSPolicy("paper", **kw),
@@ -33,6 +33,23 @@ ANALYTIC_POLICIES: dict[str, Callable[..., Any]] = {
         StraightIBVSPolicy(rotate_radius=rotate_radius, **kw), smoothing
     ),
 }
+
+
+#: one line per analytic policy, for ``--help`` and the README's table of agents
+DESCRIPTIONS: dict[str, str] = {
+    "ibvs": "the paper's IBVS (eq. 30, 36-38), forward driving",
+    "ibvs-current": "the IBVS with the current interaction matrix",
+    "ibvs-mean": "the IBVS with the mean of the current and goal matrices",
+    "ibvs-no-frame-change": "the IBVS without the paper's change of frame",
+    "oracle": "the paper's control law fed the true poses (privileged)",
+    "ibvs-backward": "the paper's IBVS, allowed to drive backward",
+    "oracle-backward": "the pose oracle, allowed to drive backward (privileged)",
+    "ibvs-straight": "turn, drive straight, turn: the IBVS's estimate of the goal",
+    "planner": "plans with the map and the true poses: the task's limit",
+    "ibvs-straight-filtered": "ibvs-straight through a temporal filter of the image points",
+}
+#: the ``pip install -e ".[EXTRA]"`` extra a policy needs beyond the core install
+EXTRAS: dict[str, str] = {"planner": "planning"}
 
 
 def make_analytic(name: str, **kwargs: Any) -> Any:

@@ -4,7 +4,13 @@ from __future__ import annotations
 
 from typing import Any
 
-__all__ = ["add_backend_options", "add_trust_model_option", "seed_value"]
+__all__ = [
+    "add_backend_options",
+    "add_trust_model_option",
+    "policies_help",
+    "seed_value",
+    "suites_help",
+]
 
 
 def seed_value(text: str) -> int:
@@ -59,3 +65,39 @@ def add_backend_options(parser: Any, task: str) -> None:
         "--address",
         help="Ray cluster to join: 'auto' or HOST:PORT (default: a private local instance)",
     )
+
+
+def policies_help() -> str:
+    """Every policy by name, one line each, with the extra it needs (for ``--help``)."""
+    from agents.analytic.registry import ANALYTIC_POLICIES, DESCRIPTIONS, EXTRAS
+    from agents.learned import shipped_models
+
+    def line(name: str, what: str) -> str:
+        extra = f" [extra: {EXTRAS[name]}]" if name in EXTRAS else ""
+        return f"  {name:<24} {what}{extra}"
+
+    lines = ["policies (--policy NAME):"]
+    lines += [line(name, DESCRIPTIONS.get(name, "")) for name in ANALYTIC_POLICIES]
+    lines.append(line("random", "uniform random actions (a floor)"))
+    lines += [line(name, SHIPPED.get(name, "a shipped learned model")) for name in shipped_models()]
+    lines.append(line("./DIR", "a model directory (radial-ibvs train, agents.save_model_dir)"))
+    lines.append('extras: pip install -e ".[EXTRA]"')
+    return "\n".join(lines)
+
+
+#: the shipped models, one line each (their metadata.json holds how each was made)
+SHIPPED = {
+    "dagger-student": "shipped: learned end to end, distilled from the planner (DAgger)",
+    "ppo-residual": "shipped: PPO's bounded correction of ibvs-backward",
+}
+
+
+def suites_help() -> str:
+    """Every benchmark suite and its variants, one line each (for ``--help``)."""
+    from agents.experiments.suites import SUITES
+
+    lines = ["suites (--suites NAME ...):"]
+    for name, variants in SUITES.items():
+        labels = ", ".join(v.label for v in variants)
+        lines.append(f"  {name:<14} {labels[:60] + ('...' if len(labels) > 60 else '')}")
+    return "\n".join(lines)

@@ -8,7 +8,12 @@ import shutil
 from pathlib import Path
 from typing import Any
 
-from agents.cli._options import add_backend_options, add_trust_model_option
+from agents.cli._options import (
+    add_backend_options,
+    add_trust_model_option,
+    policies_help,
+    suites_help,
+)
 
 __all__ = ["add_parser", "run"]
 
@@ -32,6 +37,8 @@ def add_parser(sub: Any) -> None:
             "rate (a privileged policy with a map: the limit) beside each policy's. Prints a "
             "table and writes episodes.csv, episodes.json, summary.md and plots into --out."
         ),
+        epilog=f"{policies_help()}\n\n{suites_help()}",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("--suites", nargs="+", help="default: all")
     parser.add_argument(
@@ -93,7 +100,10 @@ def run(args: argparse.Namespace) -> int:
         notify=print,
         trust_model=args.trust_model,
     )
-    Console().print(rich_table(summary_rows(results)))
+    console = Console()
+    if not console.is_terminal:  # piped or redirected: every column, however wide
+        console = Console(width=10_000)
+    console.print(rich_table(summary_rows(results)))
     for result in results:
         if result.skipped:
             print(f"skipped {result.job.policy} on {result.job.variant.suite}: {result.skipped}")

@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from agents.cli._options import add_trust_model_option, seed_value
+from agents.cli._options import add_trust_model_option, policies_help, seed_value
 
 __all__ = ["add_parser", "run"]
 
@@ -23,6 +23,8 @@ def add_parser(sub: Any) -> None:
             "observation: the learned models' features observation (16 landmark slots, goal "
             "depths) plus what the policy needs. Needs the [datasets] extra."
         ),
+        epilog=policies_help(),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("--policy", required=True, help="policy name or model directory")
     parser.add_argument("--scenario", default="random", help="default: %(default)s")

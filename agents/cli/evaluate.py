@@ -3,10 +3,11 @@
 from __future__ import annotations
 
 import argparse
+import os
 from pathlib import Path
 from typing import Any
 
-from agents.cli._options import add_trust_model_option, seed_value
+from agents.cli._options import add_trust_model_option, policies_help, seed_value
 
 __all__ = ["add_parser", "run"]
 
@@ -17,14 +18,22 @@ def add_parser(sub: Any) -> None:
         "evaluate",
         help="run one policy for N seeded episodes; print a summary, write JSON rows",
         description=(
-            "Run a policy (ibvs, ibvs-current, ibvs-mean, ibvs-no-frame-change, oracle, "
-            "ibvs-backward, oracle-backward, random, "
-            "a shipped model such as ppo-residual, or a model directory) on a scenario for N "
-            "episodes seeded S, S+1, ...; print the success rate (95% Wilson interval) and the "
-            "errors; --json writes one row per episode."
+            "Run a policy (below) on a scenario for N episodes seeded S, S+1, ...; print the "
+            "success rate (95% Wilson interval) and the errors; --json writes one row per "
+            "episode. Every policy runs on the same physics, kinematic unless --env-kwarg "
+            "physics=pymunk says otherwise (the output names it), so that two calls, or one call "
+            "with several policies, compare policies only."
         ),
+        epilog=policies_help(),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    parser.add_argument("--policy", required=True, help="policy name or model directory")
+    parser.add_argument(
+        "--policy",
+        required=True,
+        nargs="+",
+        help="one or more policy names or model directories (listed below), run on the same "
+        "physics and seeds",
+    )
     parser.add_argument("--scenario", default="paper-sim", help="default: %(default)s")
     parser.add_argument("--task", type=int, help="task index (default: drawn per episode)")
     parser.add_argument("--episodes", type=int, default=10, help="default: %(default)s")
@@ -42,25 +51,45 @@ def add_parser(sub: Any) -> None:
     add_trust_model_option(parser)
 
 
+#: the physics every evaluated policy runs on unless --env-kwarg physics=... says otherwise
+DEFAULT_PHYSICS = "kinematic"
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``radial-ibvs evaluate``; returns the exit code."""
     from agents.experiments import write_json
-    from agents.experiments.evaluate import evaluate, parse_env_kwargs, summarise
+    from agents.experiments.evaluate import evaluate, parse_env_kwargs
 
-    logs = evaluate(
-        args.policy,
-        args.scenario,
-        task=args.task,
-        episodes=args.episodes,
-        seed=args.seed,
-        env_kwargs=parse_env_kwargs(args.env_kwarg),
-        trust_model=args.trust_model,
-    )
+    env_kwargs = {"physics": DEFAULT_PHYSICS, **parse_env_kwargs(args.env_kwarg)}
+    # the policies' networks are small: one torch thread is fastest (3x here); read by torch
+    # when a learned policy imports it (numpy, imported already, keeps its threads)
+    os.environ.setdefault("OMP_NUM_THREADS", "1")
+    every = []
+    for name in args.policy:  # one physics for all: a comparison compares policies only
+        logs = evaluate(
+            name,
+            args.scenario,
+            task=args.task,
+            episodes=args.episodes,
+            seed=args.seed,
+            env_kwargs=env_kwargs,
+            trust_model=args.trust_model,
+        )
+        _print_summary(name, args.scenario, logs)
+        every += logs
+    if args.json is not None:
+        print(f"saved {write_json(every, args.json)}")
+    return 0
+
+
+def _print_summary(name: str, scenario: str, logs: list[Any]) -> None:
+    from agents.experiments.evaluate import summarise
+
     rows = [log.row() for log in logs]
     summary = summarise(rows)
     lo, hi = summary["success_ci95"]
     physics = ", ".join(sorted({str(row["physics"]) for row in rows}))
-    print(f"{args.policy} on {args.scenario}, {physics} physics: {summary['episodes']} episodes")
+    print(f"{name} on {scenario}, {physics} physics: {summary['episodes']} episodes")
     print(
         f"  success {summary['success_rate']:.0%} (95% CI {lo:.0%}-{hi:.0%}), "
         f"collisions {summary['collisions']}"
@@ -83,6 +112,3 @@ def run(args: argparse.Namespace) -> int:
     if "ends" in summary:
         print("  ends: " + ", ".join(f"{k} {v}" for k, v in summary["ends"].items()))
     print(f"  compute {summary['compute_us_per_step']:.0f} us/step")
-    if args.json is not None:
-        print(f"saved {write_json(logs, args.json)}")
-    return 0

@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import Any
 
-from agents.cli._options import add_trust_model_option, seed_value
+from agents.cli._options import add_trust_model_option, policies_help, seed_value
 
 __all__ = ["add_parser", "run"]
 
@@ -17,6 +17,8 @@ def add_parser(sub: Any) -> None:
         "render",
         help="save a video (GIF, or MP4 with ffmpeg) of a policy parking",
         description="Run one episode of a policy with rgb_array rendering and save it.",
+        epilog=policies_help(),
+        formatter_class=argparse.RawDescriptionHelpFormatter,
     )
     parser.add_argument("--policy", required=True, help="policy name or model directory")
     parser.add_argument("--scenario", default="paper-sim", help="default: %(default)s")
@@ -28,6 +30,7 @@ def add_parser(sub: Any) -> None:
     parser.add_argument(
         "--env-kwarg", action="append", default=[], metavar="KEY=VALUE", help="gym.make argument"
     )
+    parser.add_argument("--no-progress", action="store_true", help="no progress bar")
     add_trust_model_option(parser)
 
 
@@ -46,6 +49,7 @@ def run(args: argparse.Namespace) -> int:
         fps=args.fps,
         max_steps=args.max_steps,
         trust_model=args.trust_model,
+        progress=not args.no_progress,
     )
     outcome = "parked" if info.get("is_success") else "did not park"
     print(

@@ -58,6 +58,22 @@ def add_parser(sub: Any) -> None:
         help="DAgger runs (radial-ibvs distill directories) to plot per round; repeatable",
     )
     parser.add_argument("--out", type=Path, help="write report.md (and the curves) here")
+    parser.add_argument(
+        "--variants",
+        nargs="+",
+        metavar="'SUITE: VARIANT'",
+        help="only these rows of the success table, in this order",
+    )
+    parser.add_argument(
+        "--into",
+        type=Path,
+        metavar="FILE",
+        help="write the success table into FILE between its <!-- results:start --> and "
+        "<!-- results:end --> lines (the README, a results page), with the command that made it",
+    )
+    parser.add_argument(
+        "--heatmap", type=Path, metavar="PNG", help="draw the success heat map of the rows here"
+    )
 
 
 def run(args: argparse.Namespace) -> int:
@@ -71,6 +87,15 @@ def run(args: argparse.Namespace) -> int:
     if curves and args.out is None:
         raise ValueError("--curves draws a figure: give --out DIR for it")
     rows = load_rows(args.rows)
+    if args.into is not None:
+        _write_into(args, rows, renames)
+    if args.heatmap is not None:
+        from agents.experiments.benchmark_plots import plot_success
+        from agents.experiments.report import success_summaries
+
+        renamed = [{**r, "policy": renames.get(str(r["policy"]), r["policy"])} for r in rows]
+        kept = [r for r in renamed if not args.suites or r["suite"] in args.suites]
+        print(f"saved {plot_success(success_summaries(kept, args.policies), args.heatmap)}")
     sources = ", ".join(str(p) for p in args.rows)
     parts = [
         "# Benchmark report",
@@ -98,3 +123,20 @@ def run(args: argparse.Namespace) -> int:
         write_atomic(args.out / "report.md", text.encode())
         print(f"saved {args.out / 'report.md'}")
     return 0
+
+
+def _write_into(args: argparse.Namespace, rows: list[dict[str, Any]], renames: dict) -> None:
+    """Regenerate the results block of ``--into`` from the rows (and say how)."""
+    import shlex
+    import sys
+
+    from agents.experiments.report import replace_block, results_table
+    from agents.io import write_atomic
+
+    ends = args.variants is None  # a headline (chosen rows) without the second table
+    table = results_table(rows, args.suites, args.policies, renames, args.variants, ends)
+    command = shlex.join(["radial-ibvs", *getattr(args, "argv", sys.argv[1:])])
+    n = len({(r["suite"], r["variant"], r["policy"], r["seed"]) for r in rows})
+    text = f"{table}\n<sub>Generated from {n} benchmark episodes by `{command}`.</sub>\n"
+    write_atomic(args.into, replace_block(args.into, "results", text).encode())
+    print(f"updated {args.into}")

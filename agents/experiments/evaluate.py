@@ -10,7 +10,8 @@ import numpy as np
 from tqdm import tqdm  # text bars: no ipywidgets needed in Jupyter
 
 from agents import make_policy
-from agents.runner import EpisodeLog, make_env, run_episode
+from agents.experiments.batched import batch_mode, batchable, run_batch
+from agents.runner import DEFAULT_ENV_ID, EpisodeLog, env_kwargs_for, make_env, run_episode
 from radial_ibvs_gym.config import read_yaml, short
 
 __all__ = ["evaluate", "parse_env_kwargs", "summarise", "wilson_interval"]
@@ -48,6 +49,9 @@ def evaluate(
 ) -> list[EpisodeLog]:
     """Run ``episodes`` episodes seeded ``seed, seed + 1, ...``.
 
+    Batched in the native vector env where :mod:`agents.experiments.batched` can (the same
+    episodes as one at a time), else one at a time in a scalar env.
+
     ``trust_model`` allows a model directory that holds only a pickled stable-baselines3
     ``model.zip`` (:func:`agents.learned.load`'s ``trust_pickle``).
 
@@ -61,6 +65,10 @@ def evaluate(
         raise ValueError(f"episodes must be positive, got {episodes!r}")
     policy = make_policy(policy_name, trust_pickle=trust_model)
     overrides = {**(env_kwargs or {}), **({"task": task} if task is not None else {})}
+    given = env_id or getattr(policy, "env_id", None) or DEFAULT_ENV_ID
+    if batchable(given, env_kwargs_for(policy, scenario, overrides)) is None and batch_mode(policy):
+        return _batched(policy, policy_name, scenario, overrides, env_id, episodes, seed, suite,
+                        progress)  # fmt: skip
     env = make_env(policy, scenario, overrides, env_id=env_id)
     logs = []
     for k in tqdm(range(episodes), desc=policy_name, disable=not progress, unit="ep"):
@@ -69,6 +77,34 @@ def evaluate(
             log.extra["suite"] = suite
         logs.append(log)
     env.close()
+    return logs
+
+
+#: episodes stepped together by :func:`evaluate` (one vector env of this many robots)
+BATCH = 100
+
+
+def _batched(
+    policy: Any,
+    name: str,
+    scenario: str,
+    overrides: Mapping[str, Any],
+    env_id: str | None,
+    episodes: int,
+    seed: int,
+    suite: str | None,
+    progress: bool,
+) -> list[EpisodeLog]:
+    """:func:`evaluate`'s episodes in batches of :data:`BATCH` (the same episodes, seed by seed)."""
+    logs: list[EpisodeLog] = []
+    with tqdm(total=episodes, desc=name, disable=not progress, unit="ep") as bar:
+        for first in range(seed, seed + episodes, BATCH):
+            seeds = list(range(first, min(first + BATCH, seed + episodes)))
+            logs += run_batch(policy, seeds, scenario, overrides, env_id=env_id, policy_name=name)
+            bar.update(len(seeds))
+    for log in logs:
+        if suite is not None:
+            log.extra["suite"] = suite
     return logs
 
 

@@ -25,8 +25,10 @@ __all__ = [
     "dagger_curves",
     "load_rows",
     "read_rounds",
+    "replace_block",
     "results_table",
     "seeds_table",
+    "success_summaries",
 ]
 
 #: the tolerances of ``success_by_tolerance`` (position / heading)
@@ -76,6 +78,8 @@ def results_table(
     suites: Sequence[str] | None = None,
     policies: Sequence[str] | None = None,
     renames: Mapping[str, str] | None = None,
+    variants: Sequence[str] | None = None,
+    ends: bool = True,
 ) -> str:
     """Return the success table (Markdown): suite variants as rows, policies as columns.
 
@@ -94,6 +98,11 @@ def results_table(
     renames
         ``{old: new}``: show policy ``old`` as ``new`` (e.g. a model directory under the name
         it ships as).
+    variants
+        Only these rows, as ``"suite: variant"``, in this order (default: every variant of
+        ``suites``).
+    ends
+        Add the second table (how the episodes ended).
     """
     renames = dict(renames or {})
     cells: dict[tuple[str, str], dict[str, list[Mapping[str, Any]]]] = defaultdict(
@@ -104,13 +113,17 @@ def results_table(
     for row in rows:
         if suites and row["suite"] not in suites:
             continue
+        if variants and f"{row['suite']}: {row['variant']}" not in variants:
+            continue
         row = {**row, "policy": renames.get(str(row["policy"]), str(row["policy"]))}
         kept.append(row)
         key = (str(row["suite"]), str(row["variant"]))
         if key not in cells:
             order.append(key)
         cells[key][row["policy"]].append(row)
-    if suites:
+    if variants:
+        order.sort(key=lambda k: list(variants).index(f"{k[0]}: {k[1]}"))
+    elif suites:
         order.sort(key=lambda k: list(suites).index(k[0]))
     shown = _policies(kept, policies)
     if not order or not shown:
@@ -134,6 +147,8 @@ def results_table(
                 rate += f" ({100 * lo:.0f}-{100 * hi:.0f})"
             out.append(rate)
         lines.append(f"| {key[0]}: {key[1]} | {n} | " + " | ".join(out) + " |")
+    if not ends:
+        return "\n".join(lines) + "\n"
     lines += [
         "",
         "| how episodes ended (collision / time-out / lost) | | " + " | ".join(shown) + " |",
@@ -142,8 +157,8 @@ def results_table(
     for key in order:
         out = []
         for policy in shown:
-            ends = Counter(str(r.get("end")) for r in cells[key].get(policy, []))
-            out.append(f"{ends['collision']} / {ends['time-out']} / {ends['lost']}")
+            counts = Counter(str(r.get("end")) for r in cells[key].get(policy, []))
+            out.append(f"{counts['collision']} / {counts['time-out']} / {counts['lost']}")
         lines.append(f"| {key[0]}: {key[1]} | | " + " | ".join(out) + " |")
     return "\n".join(lines) + "\n"
 
@@ -289,3 +304,62 @@ def dagger_curves(groups: Mapping[str, Sequence[Path | str]], out: Path | str) -
     fig.tight_layout()
     save_figure(fig, out)
     return "\n".join(lines) + "\n"
+
+
+def success_summaries(
+    rows: Sequence[Mapping[str, Any]], policies: Sequence[str] | None = None
+) -> list[dict[str, Any]]:
+    """Per suite variant and policy: the success rate and its 95 % Wilson interval.
+
+    Returns
+    -------
+    list of dict
+        ``suite``, ``variant``, ``policy``, ``episodes``, ``success_rate``, ``success_ci95``,
+        in the order met (what the benchmark's heat map draws).
+    """
+    groups: dict[tuple[str, str, str], list[bool]] = defaultdict(list)
+    for row in rows:
+        groups[(str(row["suite"]), str(row["variant"]), str(row["policy"]))].append(
+            bool(row["success"])
+        )
+    shown = _policies(rows, policies)
+    out = []
+    for (suite, variant, policy), wins in groups.items():
+        if policy not in shown:
+            continue
+        out.append(
+            {
+                "suite": suite,
+                "variant": variant,
+                "policy": policy,
+                "episodes": len(wins),
+                "success_rate": sum(wins) / len(wins),
+                "success_ci95": wilson_interval(sum(wins), len(wins)),
+            }
+        )
+    out.sort(key=lambda s: shown.index(str(s["policy"])))
+    return out
+
+
+def replace_block(path: Path | str, name: str, text: str) -> str:
+    """Return the file's text with the block between its ``name`` markers replaced by ``text``.
+
+    The markers are ``<!-- name:start -->`` and ``<!-- name:end -->`` (HTML comments, invisible
+    in Markdown); what lies between them is generated, the rest of the file is kept.
+
+    Raises
+    ------
+    ValueError
+        If the file lacks the markers (naming it and them).
+    """
+    start, end = f"<!-- {name}:start -->", f"<!-- {name}:end -->"
+    content = Path(path).read_text()
+    if (
+        content.count(start) != 1
+        or content.count(end) != 1
+        or content.index(start) > content.index(end)
+    ):
+        raise ValueError(f"{path}: needs one {start} line and, after it, one {end} line")
+    before, rest = content.split(start)
+    _, after = rest.split(end)
+    return f"{before}{start}\n{text.strip()}\n{end}{after}"

@@ -5,10 +5,11 @@ from __future__ import annotations
 import io
 import shutil
 import tempfile
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Any
 
+import gymnasium as gym
 import numpy as np
 
 from agents import make_policy
@@ -29,6 +30,7 @@ def render_episode(
     fps: int = 10,
     max_steps: int = 600,
     trust_model: bool = False,
+    progress: bool = True,
 ) -> tuple[Path, dict[str, Any]]:
     """Run one episode with ``render_mode="rgb_array"`` and save it as a GIF or an MP4.
 
@@ -47,6 +49,8 @@ def render_episode(
     trust_model
         Allow a model directory that holds only a pickled ``model.zip``
         (:func:`agents.learned.load`'s ``trust_pickle``).
+    progress
+        A progress bar over the rendered steps, then over the encoded frames.
 
     Returns
     -------
@@ -68,17 +72,40 @@ def render_episode(
         raise ValueError(f"fps and max_steps must be positive, got {fps!r}, {max_steps!r}")
     policy = make_policy(policy_name, trust_pickle=trust_model)
     overrides = {**(env_kwargs or {}), **({"task": task} if task is not None else {})}
+    from tqdm.auto import tqdm
+
     env = make_env(policy, scenario, overrides, render_mode="rgb_array")
+    bar = tqdm(total=max_steps, desc=f"render {policy_name}", unit="step", disable=not progress)
     try:
         log = run_episode(
-            policy, env, seed=seed, policy_name=policy_name, max_steps=max_steps, record_frames=True
+            policy,
+            _Counted(env, bar.update),
+            seed=seed,
+            policy_name=policy_name,
+            max_steps=max_steps,
+            record_frames=True,
         )
     finally:
+        bar.close()
         env.close()
     frames, info = log.frames, log.info
     frames.extend([frames[-1]] * fps)  # hold the last frame for a second
+    if progress:
+        print(f"encoding {len(frames)} frames as {suffix[1:].upper()}...", flush=True)
     data = _gif(frames, fps) if suffix == ".gif" else _mp4(frames, fps)
     return write_atomic(out, data), info
+
+
+class _Counted(gym.Wrapper):
+    """Calls ``tick(1)`` at each step (the render's progress bar)."""
+
+    def __init__(self, env: gym.Env, tick: Callable[[int], Any]) -> None:
+        super().__init__(env)
+        self._tick = tick
+
+    def step(self, action: Any) -> Any:
+        self._tick(1)
+        return self.env.step(action)
 
 
 def _gif(frames: list[np.ndarray], fps: int) -> bytes:

@@ -4,7 +4,7 @@ The env's jobs live in their own modules: its arguments in :mod:`~radial_ibvs_gy
 drawing an episode and its goal image in :mod:`~radial_ibvs_gym.envs.episodes`, what the robot
 sees in :mod:`~radial_ibvs_gym.envs.observation`, the task's rules (errors, reward, episode end,
 ``info``) in :mod:`~radial_ibvs_gym.envs.rules`. This module steps, resets and renders.
-Its length (about 470 lines) is mostly the class docstring: Gymnasium's layout of an env's
+Its length (about 490 lines) is mostly the class docstring: Gymnasium's layout of an env's
 documentation (spaces, rewards, episode end, the arguments' table), which the site renders.
 """
 
@@ -65,24 +65,26 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
     (1) zeros where the landmark is not visible. (2) ``obs_mode="features"`` only; 0 for pairs
     with a hidden point; ``alpha_m`` uses the virtual point of the visible landmarks.
-    With ``goal_depths=True``, ``goal_depths`` ``Box(0, 1e3, (N,))`` adds the goal depths ``d*``
-    (horizontal distances at the goal, metres, times the scenario's ``depth_scale``): the only
-    3D knowledge the paper's IBVS uses. With ``privileged=True`` the true ``robot_pose`` and
-    ``goal_pose`` ``(x, y, yaw)`` (metres, radians, world frame) and the current true
-    ``depths`` ``(N,)`` (metres) are added: for the pose oracle and the classic IBVS variants,
-    never for a vision-based policy. With ``privileged_map=True`` the map is added (for the
-    ``planner``): ``room`` ``(2,)``, ``obstacles`` ``(K, 3)`` ``(x, y, radius)``, ``landmarks``
-    ``(N, 3)`` and ``landmark_range`` ``(N, 2)``, the horizontal distances at which the nominal
-    camera sees each landmark (metres, zero-padded). With ``max_landmarks=M`` every
-    per-landmark entry is padded with zeros to ``M`` slots (``c_error`` to the
-    ``M (M - 1) / 2`` pairs, each pair at its place among the slots' pairs) and
-    ``landmark_mask`` ``Box(0, 1, (M,))`` marks the scene's landmarks: one observation space
-    for every scene with at most ``M`` landmarks, so one learned model runs in all of them.
-    Landmark ``n`` fills slot ``n``; with ``slot_order="random"`` each episode puts its ``N``
-    landmarks in ``N`` of the ``M`` slots drawn at random (the last draw of ``reset``, from
-    the env's generator), so that a model trained in scenes of ``N`` landmarks has learned
-    every slot and every pair, not only the first ``N`` (the map's rows stay in the scene's
-    order).
+    Options add entries:
+
+    | argument | adds | for |
+    |---|---|---|
+    | ``goal_depths=True`` | ``goal_depths`` ``Box(0, 1e3, (N,))`` | the paper's IBVS (3) |
+    | ``privileged=True`` | ``robot_pose``, ``goal_pose``, ``depths`` | oracles (4) |
+    | ``privileged_map=True`` | ``room``, ``obstacles``, ``landmarks``, ``landmark_range`` | (5) |
+    | ``max_landmarks=M`` | ``landmark_mask`` ``Box(0, 1, (M,))`` | mixed scenes (6) |
+
+    (3) the goal depths ``d*``: horizontal distances at the goal (metres, times the scenario's
+    ``depth_scale``), the only 3D knowledge the paper's IBVS uses. (4) the true poses ``(3,)``
+    ``(x, y, yaw)`` (metres, radians, world frame) and depths ``(N,)`` (metres), never for a
+    vision-based policy. (5) the map, for the ``planner``: ``room`` ``(2,)``, ``obstacles``
+    ``(K, 3)`` ``(x, y, radius)``, ``landmarks`` ``(N, 3)``, ``landmark_range`` ``(N, 2)`` (the
+    distances at which the nominal camera sees each landmark, metres, zero-padded). (6) every
+    per-landmark entry padded with zeros to ``M`` slots (``c_error`` to the ``M (M - 1) / 2``
+    pairs): one observation space for every scene of at most ``M`` landmarks; with
+    ``slot_order="random"`` each episode puts its ``N`` landmarks in ``N`` of the ``M`` slots
+    drawn at random (the last draw of ``reset``), so that a model trained in scenes of ``N``
+    landmarks learns every slot and pair.
 
     ## Detected points
     With ``measurement="detected"`` the points come from images, as in the paper's lab
@@ -333,6 +335,17 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         return self.episodes.setup_episode(rng, task, options)
 
     # --- rendering -----------------------------------------------------------------------------
+    def _status(self) -> str:
+        """Return the rendered frame's caption: time, errors, whether the robot is parked."""
+        position, heading = self._prev_errors
+        config = self.config
+        parked = position <= config.success_position_m and heading <= config.success_heading_rad
+        return (
+            f"t = {(len(self._trail) - 1) * config.control_dt:.1f} s, error "
+            f"{100 * position:.1f} cm, {math.degrees(heading):.1f} deg"
+            + (": parked" if parked else "")
+        )
+
     def render(self) -> np.ndarray | None:
         """Render the room from above beside the omnidirectional image.
 
@@ -352,7 +365,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
 
             size = (self.robot.length, self.robot.width)
             self._renderer = ParkingRenderer(self.scenario, self.episode, size)
-        frame: np.ndarray = self._renderer.frame(self.world.pose, self._trail)
+        frame: np.ndarray = self._renderer.frame(self.world.pose, self._trail, self._status())
         if self.render_mode == "rgb_array":
             return frame
         import matplotlib.pyplot as plt

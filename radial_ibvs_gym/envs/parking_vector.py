@@ -65,8 +65,9 @@ class ParkingVectorEnv(VectorEnv):
     ``AutoresetMode``): ``"next_step"`` (default, as ``SyncVectorEnv``: the step after an
     episode ends resets that env, ignoring its action, with reward 0) or ``"same_step"`` (the
     env is reset in the step that ends it; ``info["final_obs"]`` and ``info["final_info"]``
-    hold the last observation and info). ``reset(options={"reset_mask": mask})`` resets only
-    the masked envs.
+    hold the last observation and info) or ``"disabled"`` (no env is reset by ``step``: an
+    env that ended keeps its last state, steps on if asked, and is reset by the caller).
+    ``reset(options={"reset_mask": mask})`` resets only the masked envs.
 
     ## Info
     A dict of arrays (Gymnasium's vector convention): every key of the scalar env's ``info``
@@ -129,8 +130,6 @@ class ParkingVectorEnv(VectorEnv):
                     f"unknown autoreset_mode {autoreset_mode!r}; valid: {sorted(_MODES)}"
                 )
             autoreset_mode = _MODES[autoreset_mode]
-        if autoreset_mode == AutoresetMode.DISABLED:
-            raise ValueError("autoreset_mode 'disabled' is not supported; use 'next_step'")
         if max_episode_steps is not None and max_episode_steps < 1:
             raise ValueError(f"max_episode_steps must be >= 1, got {max_episode_steps!r}")
         #: the validated arguments, as the scalar env holds them
@@ -351,7 +350,7 @@ class ParkingVectorEnv(VectorEnv):
                 self._refresh(obs, idx)
                 self._merge_reset_info(info, idx)
             self._autoreset = terminated | truncated
-        else:  # same step: the envs that ended are reset now
+        elif self.autoreset_mode == AutoresetMode.SAME_STEP:  # the envs that ended reset now
             ended = terminated | truncated
             if ended.any():
                 idx = np.flatnonzero(ended)

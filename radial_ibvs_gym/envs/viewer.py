@@ -67,10 +67,30 @@ class ParkingRenderer:
             top.add_patch(matplotlib.patches.Circle((ox, oy), radius, fc="0.6", ec="0.3"))
         top.scatter(episode.landmarks[:, 0], episode.landmarks[:, 1], c=colors, s=40, zorder=3)
         goal = _footprint(episode.goal, *robot_size)
-        top.plot(goal[:, 0], goal[:, 1], "g--", lw=1.5)
         self._trail_line = top.plot([], [], "-", color="C0", lw=1)[0]
         self._robot_line = top.plot([], [], "-", color="C3", lw=2)[0]
         self._heading = top.plot([], [], "-", color="C3", lw=2)[0]
+        # the goal over the robot (dashed): still seen when the robot is parked on it
+        top.plot(goal[:, 0], goal[:, 1], "--", color="C2", lw=1.5, zorder=4)
+        gx, gy, gyaw = episode.goal.tolist()
+        arrow = 0.6 * robot_size[0]
+        top.annotate(
+            "",
+            (gx + arrow * math.cos(gyaw), gy + arrow * math.sin(gyaw)),
+            (gx, gy),
+            arrowprops={"arrowstyle": "->", "color": "C2", "lw": 1.5},
+            zorder=4,
+        )
+        self._status = top.text(
+            0.02,
+            0.97,
+            "",
+            transform=top.transAxes,
+            va="top",
+            fontsize=10,
+            bbox={"fc": "white", "ec": "0.7", "alpha": 0.9},
+            zorder=5,
+        )
         top.set_xlim(-0.5, w + 0.5)
         top.set_ylim(-0.5, d + 0.5)
         top.set_aspect("equal")
@@ -95,8 +115,12 @@ class ParkingRenderer:
         p_cam = world_to_camera(self.episode.landmarks, pose, self.scenario.config.camera_height)
         return np.asarray(camera.forward(p_cam).pixels)
 
-    def frame(self, pose: np.ndarray, trail: list[np.ndarray]) -> np.ndarray:
-        """Draw the robot at ``pose`` with its ``trail`` (past ``(x, y)``) as ``(H, W, 3)`` RGB."""
+    def frame(self, pose: np.ndarray, trail: list[np.ndarray], status: str = "") -> np.ndarray:
+        """Draw the robot at ``pose`` with its ``trail`` (past ``(x, y)``) as ``(H, W, 3)`` RGB.
+
+        ``status`` (e.g. the time and the errors) is written above the room.
+        """
+        self._status.set_text(status)
         path = np.array(trail)
         self._trail_line.set_data(path[:, 0], path[:, 1])
         body = _footprint(pose, *self.robot_size)

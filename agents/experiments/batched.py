@@ -1,0 +1,251 @@
+"""Many seeded episodes at once: the native vector env, one policy call per step for the batch.
+
+:func:`run_batch` gives, for a list of seeds, the :class:`~agents.runner.EpisodeLog` that
+:func:`~agents.runner.run_episode` gives for each seed alone, with every episode stepped in one
+``gym.make_vec`` env (``autoreset_mode="disabled"``: an episode that ends leaves the batch, no
+other seed takes its place). The episodes are the same, seed for seed: the native vector env
+draws each robot's episode from its own generator, as the scalar env does.
+
+The policy is called once per step on the whole batch (:func:`batch_mode`: the analytic
+policies give each robot's action bit for bit as alone; the networks to the last bits of a
+matrix product, which moved no episode's success or end in the tests), or once per robot (the
+planner). Where the vector env cannot run a variant, :func:`batchable` says why, and the
+caller runs the scalar path:
+
+- ``measurement="detected"`` renders and detects an image per robot (no batched renderer);
+- ``physics="pymunk"``: the batched fleet shares one ``pymunk.Space``, whose solver orders
+  contacts differently, so the rows would not be the scalar env's bit for bit;
+- ``RadialIBVS/ParkingImage-v0`` has no vector env (it renders an image per robot).
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import gymnasium as gym
+import numpy as np
+
+from agents.runner import DEFAULT_ENV_ID, EpisodeLog, env_kwargs_for
+from radial_ibvs_gym.registration import VECTOR_ENTRY_POINTS, check_env_id
+
+__all__ = ["batch_mode", "batchable", "run_batch"]
+
+#: how each policy class runs in a batch: "batch", one ``predict`` for every robot (its
+#: batched maths give each robot's action as alone: bit for bit for the analytic policies,
+#: tested; to the last bits of a matrix product for the networks), or "robot", one
+#: ``predict`` per robot (the planner: OMPL plans one robot at a time)
+_MODES = {
+    "IBVSPolicy": "batch",
+    "PoseOracle": "batch",
+    "StraightIBVSPolicy": "batch",
+    "FilteredPolicy": "batch",
+    "LearnedPolicy": "batch",
+    "HistoryPolicy": "batch",
+    "ResidualPolicy": "batch",
+    "MapPlanner": "robot",
+}
+
+
+def batch_mode(policy: Any) -> str | None:
+    """How ``policy`` runs in a batch: ``"batch"``, ``"robot"``, or ``None`` (not batched).
+
+    ``policy.batch_mode`` says so when set; else the table above. ``None`` for the others:
+    the ``random`` policy, whose one stream of draws runs through a job's episodes in order
+    (batched, the robots would share it in another order), and policies this module does not
+    know.
+    """
+    declared = getattr(policy, "batch_mode", None)
+    if declared is not None:
+        if declared not in ("batch", "robot"):
+            raise ValueError(f"batch_mode must be 'batch' or 'robot', got {declared!r}")
+        return str(declared)
+    return _MODES.get(type(policy).__name__)
+
+
+def batchable(env_id: str, env_kwargs: Mapping[str, Any]) -> str | None:
+    """Return why the vector env cannot run these episodes as the scalar env would, or None."""
+    if env_id not in VECTOR_ENTRY_POINTS:
+        return f"{env_id} has no vector env"
+    if env_kwargs.get("measurement", "ideal") == "detected":
+        return "detected points render and detect an image per robot"
+    if env_kwargs.get("physics", "pymunk") == "pymunk":
+        return "pymunk's batched contacts differ from the scalar env's in the last bits"
+    return None
+
+
+def _row_of(values: Mapping[str, Any], i: int) -> dict[str, Any]:
+    """Robot ``i``'s entries of a vector env's ``info`` (masks dropped), as the scalar env's."""
+    out: dict[str, Any] = {}
+    for key, value in values.items():
+        if key.startswith("_"):
+            continue
+        if isinstance(value, Mapping):
+            out[key] = _row_of(value, i)
+        elif value.dtype == np.bool_ and value.ndim == 1:
+            out[key] = bool(value[i])
+        else:
+            out[key] = value[i]
+    return out
+
+
+def _image(obs: Mapping[str, Any], i: int) -> tuple[Any, Any, Any]:
+    if "points" in obs:
+        return obs["points"][i], obs["visible"][i], obs["goal_points"][i]
+    n = obs["achieved_goal"].shape[1] // 2
+    return obs["achieved_goal"][i], obs["observation"][i, 2 * n :], obs["desired_goal"][i]
+
+
+def run_batch(
+    policy: Any,
+    seeds: Sequence[int],
+    scenario: str | None = None,
+    overrides: Mapping[str, Any] | None = None,
+    *,
+    tasks: Sequence[int | None] | None = None,
+    env_id: str | None = None,
+    policy_name: str | None = None,
+) -> list[EpisodeLog]:
+    """Run one episode per seed, all in one native vector env; return their logs, in order.
+
+    Parameters
+    ----------
+    policy
+        Anything with SB3's ``predict``.
+    seeds
+        One reset seed per episode (``B`` episodes).
+    scenario, overrides
+        As :func:`~agents.runner.make_env`.
+    tasks
+        The reset option ``task`` of each episode (``None``: drawn), or ``None`` for all.
+    env_id
+        As :func:`~agents.runner.make_env`.
+    policy_name
+        Name recorded in the logs.
+
+    Returns
+    -------
+    list of EpisodeLog
+        What :func:`~agents.runner.run_episode` gives for each seed alone (``compute_s``: the
+        robot's share of the batch's ``predict`` time).
+
+    Raises
+    ------
+    ValueError
+        Where :func:`batchable` says the episodes cannot be batched, for a bad argument, or a
+        learned model whose observation space differs from the env's.
+    """
+    env_id = check_env_id(env_id or getattr(policy, "env_id", None) or DEFAULT_ENV_ID, "env_id")
+    kwargs = env_kwargs_for(policy, scenario, overrides)
+    why = batchable(env_id, kwargs)
+    mode = batch_mode(policy)
+    if why is not None or mode is None:
+        raise ValueError(f"these episodes cannot be batched: {why or 'the policy is not'}")
+    n = len(seeds)
+    tasks = list(tasks) if tasks is not None else [None] * n
+    venv: Any = gym.make_vec(
+        env_id,
+        num_envs=n,
+        vectorization_mode="vector_entry_point",
+        autoreset_mode="disabled",
+        **kwargs,
+    )
+    try:
+        if hasattr(policy, "check_observation_space"):
+            policy.check_observation_space(venv.single_observation_space)
+        return _run(policy, venv, [int(s) for s in seeds], tasks, policy_name, mode == "batch")
+    finally:
+        venv.close()
+
+
+def _reset(venv: Any, seeds: list[int], tasks: list[int | None]) -> tuple[Any, list[dict]]:
+    """Reset each robot with its seed and task (one reset per task, masked)."""
+    n = len(seeds)
+    infos: list[dict[str, Any]] = [{} for _ in range(n)]
+    obs = None
+    for task in dict.fromkeys(tasks):
+        mask = np.array([t == task for t in tasks])
+        options: dict[str, Any] = {"reset_mask": mask}
+        if task is not None:
+            options["task"] = task
+        obs, info = venv.reset(
+            seed=[s if m else None for s, m in zip(seeds, mask, strict=True)], options=options
+        )
+        for i in np.flatnonzero(mask).tolist():
+            infos[i] = _row_of(info, i)
+    return obs, infos
+
+
+def _run(
+    policy: Any,
+    venv: Any,
+    seeds: list[int],
+    tasks: list[int | None],
+    name: str | None,
+    exact: bool,
+) -> list[EpisodeLog]:
+    n = len(seeds)
+    obs, infos = _reset(venv, seeds, tasks)
+    base = venv.unwrapped
+    poses = [[np.array(infos[i]["robot_pose"])] for i in range(n)]
+    images = [_image(obs, i) for i in range(n)]
+    points = [[np.array(images[i][0])] for i in range(n)]
+    visible = [[np.array(images[i][1])] for i in range(n)]
+    actions: list[list[np.ndarray]] = [[] for _ in range(n)]
+    compute = np.zeros(n)
+    ended = np.zeros(n, dtype=bool)
+    terminated_at = np.zeros(n, dtype=bool)
+    states: list[Any] = [None] * n
+    batch_state: Any = None
+    starts = np.ones(n, dtype=bool)
+    while not ended.all():
+        live = np.flatnonzero(~ended)
+        act = np.zeros((n, 2), dtype=np.float32)
+        if exact:
+            start = time.perf_counter()
+            out, batch_state = policy.predict(obs, batch_state, starts, deterministic=True)
+            compute[live] += (time.perf_counter() - start) / len(live)
+            act[live] = np.asarray(out)[live]
+        else:
+            for i in live.tolist():
+                single = {k: v[i] for k, v in obs.items()}
+                start = time.perf_counter()
+                a, states[i] = policy.predict(single, states[i], starts[i : i + 1], True)
+                compute[i] += time.perf_counter() - start
+                act[i] = a
+        starts[:] = False
+        obs, _, terminated, truncated, info = venv.step(act)
+        for i in live.tolist():
+            poses[i].append(np.array(info["robot_pose"][i]))
+            actions[i].append(np.asarray(act[i], dtype=np.float64))
+            image = _image(obs, i)
+            points[i].append(np.array(image[0]))
+            visible[i].append(np.array(image[1]))
+            if terminated[i] or truncated[i]:
+                ended[i], terminated_at[i] = True, bool(terminated[i])
+                infos[i] = _row_of(info, i)
+    logs = []
+    config = base.config
+    for i in range(n):
+        m = len(visible[i][-1])
+        info = infos[i]
+        logs.append(
+            EpisodeLog(
+                policy=name or type(policy).__name__,
+                scenario=config.scenario.config.name,
+                physics=config.physics,
+                task=None if info.get("task") is None else int(info["task"]),
+                seed=seeds[i],
+                control_dt=float(config.control_dt),
+                poses=np.array(poses[i], dtype=np.float64),
+                actions=np.array(actions[i], dtype=np.float64).reshape(-1, 2),
+                points=np.array(points[i], dtype=np.float64).reshape(-1, m, 2),
+                visible=np.array(visible[i]).reshape(-1, m) > 0.5,
+                goal_points=np.asarray(_image(obs, i)[2], dtype=np.float64).reshape(m, 2),
+                info=info,
+                compute_s=float(compute[i]),
+                terminated=bool(terminated_at[i]),
+            )
+        )
+    return logs
