@@ -119,11 +119,17 @@ class PoseOracle:
         goal_pose = np.asarray(observation["goal_pose"], dtype=np.float64)
         batched = robot_pose.ndim == 2
         robots, goals = robot_pose.reshape(-1, 3), goal_pose.reshape(-1, 3)
-        actions = np.array([self._act(p, g) for p, g in zip(robots, goals, strict=True)])
+        actions = np.array([self.act(p, g) for p, g in zip(robots, goals, strict=True)])
         actions = np.clip(actions, -1.0, 1.0).astype(np.float32).reshape(-1, 2)
         return (actions if batched else actions[0]), state
 
-    def _act(self, pose: np.ndarray, goal: np.ndarray) -> tuple[float, float]:
+    def act(self, pose: np.ndarray, goal: np.ndarray) -> tuple[float, float]:
+        """Return the action ``(v / v_max, omega / omega_max)`` from ``pose`` to ``goal``.
+
+        ``pose`` and ``goal`` are ``(x, y, yaw)`` in one frame (metres, radians): the world
+        (the oracle), or the robot's own with ``pose`` at the origin (a pose estimated from
+        the image: :class:`agents.analytic.pbvs.PBVSPolicy`). Not clipped.
+        """
         v_max, w_max = self.robot.max_linear_speed, self.robot.max_angular_speed
         x, y, gamma = pose_in_frame(pose, goal)  # the goal in the robot frame
         target = np.array([x, y])

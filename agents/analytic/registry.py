@@ -12,6 +12,7 @@ from typing import Any
 from agents.analytic.filtered import FilteredPolicy
 from agents.analytic.ibvs_policy import IBVSPolicy
 from agents.analytic.ibvs_straight import StraightIBVSPolicy
+from agents.analytic.pbvs import PBVSPolicy
 from agents.analytic.planner import MapPlanner
 from agents.analytic.pose_oracle import PoseOracle
 
@@ -32,6 +33,8 @@ ANALYTIC_POLICIES: dict[str, Callable[..., Any]] = {
     "ibvs-straight-filtered": lambda smoothing=0.85, rotate_radius=0.05, **kw: FilteredPolicy(
         StraightIBVSPolicy(rotate_radius=rotate_radius, **kw), smoothing
     ),
+    # position-based: the goal's pose solved from the image, the oracle's law on it
+    "pbvs": lambda **kw: PBVSPolicy(**kw),
 }
 
 
@@ -47,6 +50,7 @@ DESCRIPTIONS: dict[str, str] = {
     "ibvs-straight": "turn, drive straight, turn: the IBVS's estimate of the goal",
     "planner": "plans with the map and the true poses: the task's limit",
     "ibvs-straight-filtered": "ibvs-straight through a temporal filter of the image points",
+    "pbvs": "position-based: the goal's pose solved from the image, eq. 38 on it",
 }
 #: the ``pip install -e ".[EXTRA]"`` extra a policy needs beyond the core install
 EXTRAS: dict[str, str] = {"planner": "planning"}

@@ -39,6 +39,7 @@ __all__ = ["batch_mode", "batchable", "run_batch"]
 _MODES = {
     "IBVSPolicy": "batch",
     "PoseOracle": "batch",
+    "PBVSPolicy": "batch",
     "StraightIBVSPolicy": "batch",
     "FilteredPolicy": "batch",
     "LearnedPolicy": "batch",
