@@ -83,3 +83,35 @@ def test_too_few_landmarks_give_a_zero_command_and_missing_depths_are_named() ->
     np.testing.assert_array_equal(policy.predict(obs)[0], [0.0, 0.0])
     with pytest.raises(KeyError, match="make the env with"):
         policy.predict({k: v for k, v in obs.items() if k != "goal_depths"})
+
+
+def test_the_filter_on_noise_free_images_acts_as_pbvs_and_parks() -> None:
+    from agents.analytic.pbvs_ekf import PBVSEKFPolicy
+
+    ekf, pbvs = PBVSEKFPolicy(), PBVSPolicy()
+    env = make_env(ekf, "paper-sim", {"physics": "kinematic"})
+    for task in range(4):
+        obs, _ = env.reset(seed=0, options={"task": task})
+        state, start = None, np.array([True])
+        for _ in range(600):
+            action, state = ekf.predict(obs, state, start)
+            start = np.array([False])
+            np.testing.assert_allclose(action, pbvs.predict(obs)[0], atol=2e-3)
+            obs, _, terminated, truncated, info = env.step(action)
+            if terminated or truncated:
+                break
+        assert info["is_success"], task
+
+
+def test_the_filter_predicts_the_goal_through_the_robots_own_motion() -> None:
+    from agents.analytic.pbvs_ekf import PBVSEKFPolicy
+
+    ekf = PBVSEKFPolicy()
+    f = {"mean": np.array([2.0, 1.0, 0.3]), "cov": ekf.init_cov.copy(), "velocity": np.zeros(2)}
+    ekf._predict(f, np.array([0.0, 0.0]))  # standing still: the goal stays
+    np.testing.assert_allclose(f["mean"], [2.0, 1.0, 0.3])
+    for _ in range(30):  # full speed ahead: the goal comes closer, straight on
+        ekf._predict(f, np.array([1.0, 0.0]))
+    assert f["mean"][0] < 2.0 and f["mean"][1:] == pytest.approx([1.0, 0.3])
+    with pytest.raises(ValueError, match="bearing_std"):
+        PBVSEKFPolicy(bearing_std=0.0)

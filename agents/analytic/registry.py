@@ -13,6 +13,7 @@ from agents.analytic.filtered import FilteredPolicy
 from agents.analytic.ibvs_policy import IBVSPolicy
 from agents.analytic.ibvs_straight import StraightIBVSPolicy
 from agents.analytic.pbvs import PBVSPolicy
+from agents.analytic.pbvs_ekf import PBVSEKFPolicy
 from agents.analytic.planner import MapPlanner
 from agents.analytic.pose_oracle import PoseOracle
 
@@ -35,6 +36,7 @@ ANALYTIC_POLICIES: dict[str, Callable[..., Any]] = {
     ),
     # position-based: the goal's pose solved from the image, the oracle's law on it
     "pbvs": lambda **kw: PBVSPolicy(**kw),
+    "pbvs-ekf": lambda **kw: PBVSEKFPolicy(**kw),
 }
 
 
@@ -51,6 +53,7 @@ DESCRIPTIONS: dict[str, str] = {
     "planner": "plans with the map and the true poses: the task's limit",
     "ibvs-straight-filtered": "ibvs-straight through a temporal filter of the image points",
     "pbvs": "position-based: the goal's pose solved from the image, eq. 38 on it",
+    "pbvs-ekf": "pbvs on the pose filtered with the robot's own motion (an EKF)",
 }
 #: the ``pip install -e ".[EXTRA]"`` extra a policy needs beyond the core install
 EXTRAS: dict[str, str] = {"planner": "planning"}

@@ -40,6 +40,7 @@ _MODES = {
     "IBVSPolicy": "batch",
     "PoseOracle": "batch",
     "PBVSPolicy": "batch",
+    "PBVSEKFPolicy": "batch",
     "StraightIBVSPolicy": "batch",
     "FilteredPolicy": "batch",
     "LearnedPolicy": "batch",
