@@ -32,10 +32,13 @@ def test_every_suite_of_the_issue_exists_with_its_variants() -> None:
     }
     imperfect = SUITES["imperfect"]
     assert [v.label for v in imperfect] == [
-        "noise 1 px", "pp (2, -1) px, fy +1 %", "all together", "drawn per episode"
+        "noise 1 px", "pp (2, -1) px, fy +1 %", "all together", "drawn per episode",
+        "all together, goal over 30 frames",
     ]  # fmt: skip
     assert all(v.scenario == "random" and v.seed_offset == 100_000 for v in imperfect)
-    assert "imperfection_ranges" in imperfect[-1].overrides["camera"]
+    assert "imperfection_ranges" in imperfect[3].overrides["camera"]
+    assert imperfect[4].overrides["goal_image_frames"] == 30
+    assert imperfect[4].overrides["camera"] == imperfect[2].overrides["camera"]
     measured = {v.overrides.get("measurement", "ideal") for v in SUITES["pixels"]}
     assert measured == {"ideal", "detected"}
     assert [v.label for v in SUITES["noise"]] == ["0.0 px", "0.5 px", "1.0 px", "2.0 px"]

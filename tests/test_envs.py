@@ -510,3 +510,25 @@ def test_reset_and_step_give_the_same_info_keys_all_numbers(env_id: str) -> None
     _, _, _, _, at_step = vec.step(vec.action_space.sample())
     assert set(at_reset) == set(at_step)
     assert all(isinstance(v, np.ndarray) for v in at_step.values())
+
+
+def test_a_goal_image_averaged_over_frames_is_closer_to_the_true_one() -> None:
+    camera = {"mirror": "A", "non_central_offset": 0.01, "imperfections": {"pixel_noise_std": 1.0}}
+    kwargs = {"scenario": "random", "physics": "kinematic", "camera": camera}
+    ideal = gym.make("RadialIBVS/Parking-v0", scenario="random", physics="kinematic")
+    errors = {}
+    for frames in (1, 30):
+        env = gym.make("RadialIBVS/Parking-v0", goal_image_frames=frames, **kwargs)
+        total = []
+        for seed in range(20):
+            noisy, _ = env.reset(seed=seed)
+            true, _ = ideal.reset(seed=seed)
+            total.append(np.abs(noisy["goal_points"] - true["goal_points"]).mean())
+        errors[frames] = float(np.mean(total))
+    assert errors[30] < 0.5 * errors[1], errors  # about 1 / sqrt(30) of the noise
+    default, _ = gym.make("RadialIBVS/Parking-v0", **kwargs).reset(seed=3)
+    one, _ = gym.make("RadialIBVS/Parking-v0", goal_image_frames=1, **kwargs).reset(seed=3)
+    np.testing.assert_array_equal(default["goal_points"], one["goal_points"])
+    for bad in (0, 1001, 2.5, True):
+        with pytest.raises(ValueError, match="goal_image_frames"):
+            gym.make("RadialIBVS/Parking-v0", goal_image_frames=bad, **kwargs)

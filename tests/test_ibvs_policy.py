@@ -197,6 +197,8 @@ def test_registry_builds_every_contract_name_and_rejects_unknown_ones() -> None:
         "ibvs-straight",
         "ibvs-straight-filtered",
         "planner",
+        "pbvs",
+        "pbvs-ekf",
         "random",
     }
     for name in POLICY_NAMES:
@@ -205,9 +207,10 @@ def test_registry_builds_every_contract_name_and_rejects_unknown_ones() -> None:
         obs, _ = env.reset(seed=0)
         action, state = policy.predict(obs)
         assert env.action_space.contains(action)
-        # the filter's memory and the planner's plan travel in SB3's state; the others are
+        # the filters' memories and the planner's plan travel in SB3's state; the others are
         # stateless
-        assert (state is not None) == (name in ("ibvs-straight-filtered", "planner")), name
+        stateful = ("ibvs-straight-filtered", "planner", "pbvs-ekf")
+        assert (state is not None) == (name in stateful), name
     with pytest.raises(ValueError, match="unknown policy 'ppo-nothing'"):
         make_policy("ppo-nothing")
 

@@ -12,7 +12,7 @@ imperfections drawn per episode (principal point up to 3 px, focal ratio up to 2
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 __all__ = ["HELD_OUT_SEED", "SUITES", "Variant", "suite_variants"]
@@ -158,6 +158,19 @@ SUITES: dict[str, list[Variant]] = {
                 "principal_point_offset": 3.0,
                 "focal_ratio_error": 0.02,
                 "pixel_noise_std": [0.5, 1.0],
+            },
+        ),
+        # a robot parked at the goal averages 30 noisy frames into its goal image
+        replace(
+            _imperfect("all together", imperfections={**_CALIBRATION, "pixel_noise_std": 1.0}),
+            label="all together, goal over 30 frames",
+            overrides={
+                "physics": "kinematic",
+                "camera": {
+                    **_RANDOM_CAMERA,
+                    "imperfections": {**_CALIBRATION, "pixel_noise_std": 1.0},
+                },
+                "goal_image_frames": 30,
             },
         ),
     ],

@@ -27,7 +27,16 @@ from radial_ibvs_gym.limits import MAX_SUBSTEPS
 from radial_ibvs_gym.physics import BACKENDS, RobotConfig
 from radial_ibvs_gym.scenarios import Scenario, ScenarioConfig, load_scenario
 
-__all__ = ["OBS_MODES", "REWARD_WEIGHTS", "ParkingConfig", "UnknownArgumentError"]
+__all__ = [
+    "MAX_GOAL_IMAGE_FRAMES",
+    "OBS_MODES",
+    "REWARD_WEIGHTS",
+    "ParkingConfig",
+    "UnknownArgumentError",
+]
+
+#: the most noisy frames the goal image may average (``goal_image_frames``)
+MAX_GOAL_IMAGE_FRAMES = 1000
 
 
 class UnknownArgumentError(TypeError, ValueError):
@@ -92,6 +101,7 @@ class ParkingConfig:
     slot_order: Literal["fixed", "random"] = "fixed"
     missed_detections: Any = None
     start_reach: float = 1.0
+    goal_image_frames: int = 1
     w_position: float = 1.0
     w_heading: float = 0.3
     w_precision: float = 0.0
@@ -168,7 +178,7 @@ class ParkingConfig:
                 raise ValueError(f"{name} must be finite and positive, got {value!r}")
 
     def __post_init__(self) -> None:
-        for name in ("task", "max_landmarks", "min_visible"):
+        for name in ("task", "max_landmarks", "min_visible", "goal_image_frames"):
             value = getattr(self, name)
             if value is not None and (isinstance(value, bool) or not isinstance(value, int)):
                 raise ValueError(f"{name} must be an integer, got {value!r}")
@@ -178,6 +188,11 @@ class ParkingConfig:
             raise ValueError(f"task must be in 0..{self.scenario.n_tasks - 1}, got {self.task!r}")
         if not (3 <= self.min_visible <= n):
             raise ValueError(f"min_visible must be in 3..{n}, got {self.min_visible!r}")
+        if not (1 <= self.goal_image_frames <= MAX_GOAL_IMAGE_FRAMES):
+            raise ValueError(
+                f"goal_image_frames must be in 1..{MAX_GOAL_IMAGE_FRAMES}, got "
+                f"{self.goal_image_frames!r}"
+            )
         if self.physics == "pymunk":
             substeps = self.control_dt / self.physics_dt
             if substeps > MAX_SUBSTEPS:

@@ -263,7 +263,18 @@ class EpisodeSource:
         camera = setup.cameras[which]
         h = self.config.scenario.config.camera_height
         p_cam = world_to_camera(setup.episode.landmarks, pose, h, validate=False)
-        return camera_image(camera, p_cam, rng)
+        frames = self.config.goal_image_frames if which == "goal" else 1
+        if frames == 1:
+            return camera_image(camera, p_cam, rng)
+        # a robot parked at the goal grabs many noisy frames: each landmark's mean direction
+        # over the frames that see it (seen in at least half of them)
+        shots = [camera_image(camera, p_cam, rng) for _ in range(frames)]
+        seen = np.sum([v for _, v in shots], axis=0)
+        total = np.sum([x for x, _ in shots], axis=0)
+        visible = seen * 2 >= frames
+        norm = np.linalg.norm(total, axis=-1, keepdims=True)
+        points = np.where(visible[:, None], total / np.maximum(norm, 1e-300), 0.0)
+        return points, visible
 
     def map_observation(self, episode: Episode) -> dict[str, np.ndarray]:
         """Return the privileged map of an episode (metres, world frame, zero-padded).

@@ -146,6 +146,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | ``slot_order`` | ``"fixed"`` | ``"random"``: the landmarks' slots drawn per episode |
     | ``missed_detections`` | ``None`` | ``{"rate": p, "steps": [lo, hi]}``: missed landmarks |
     | ``start_reach`` | ``1.0`` | in (0, 1]: starts near the goal, for a curriculum (below) |
+    | ``goal_image_frames`` | ``1`` | noisy frames the goal image averages (parked at the goal) |
     | ``**scenario_overrides`` | | scenario keys, e.g. ``depth_scale=1.3`` |
 
     ```python
