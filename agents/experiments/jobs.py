@@ -70,15 +70,16 @@ def run_job(job: Job) -> JobResult:
     ks = list(range(job.first, job.first + job.episodes))
     seeds = [job.variant.seed_offset + k for k in ks]
     tasks = [k % n_tasks if job.variant.cycle_tasks else None for k in ks]
-    try:
-        if batchable(env_id, kwargs) is None and batch_mode(policy) is not None:
-            logs = run_batch(
-                policy, seeds, job.variant.scenario, overrides, tasks=tasks, policy_name=job.policy
-            )
-        else:
-            logs = _one_by_one(job, policy, overrides, seeds, tasks)
-    except ValueError as error:  # a learned model whose observations do not fit
+    try:  # a learned model whose observations do not fit the variant's env is skipped
+        make_env(policy, job.variant.scenario, overrides).close()
+    except ValueError as error:
         return JobResult(job, [], [], skipped=str(error))
+    if batchable(env_id, kwargs) is None and batch_mode(policy) is not None:
+        logs = run_batch(
+            policy, seeds, job.variant.scenario, overrides, tasks=tasks, policy_name=job.policy
+        )
+    else:
+        logs = _one_by_one(job, policy, overrides, seeds, tasks)
     rows, paths = [], []
     for k, log in zip(ks, logs, strict=True):
         row = log.row()
