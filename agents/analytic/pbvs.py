@@ -104,6 +104,23 @@ class PBVSPolicy:
         """What ``gym.make`` must add to the observation: the goal depths ``d*``."""
         return {"goal_depths": True}
 
+    def _as_batch(self, observation: dict[str, np.ndarray]) -> tuple[dict[str, Any], bool]:
+        """Return the observation with a leading batch axis, and whether it had one.
+
+        Raises
+        ------
+        KeyError
+            If the observation lacks ``goal_depths`` (make the env with ``goal_depths=True``).
+        """
+        if "goal_depths" not in observation:
+            raise KeyError(
+                f"{type(self).__name__} needs observation['goal_depths']: make the env with "
+                f"{self.env_kwargs}"
+            )
+        batched = np.ndim(observation["points"]) == 2
+        obs = observation if batched else {k: np.asarray(v)[None] for k, v in observation.items()}
+        return obs, batched
+
     def goal_pose(self, observation: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
         """Return ``(x, y, theta)`` of the goal in the robot's frame, ``(B, 3)``, and validity.
 
@@ -139,12 +156,7 @@ class PBVSPolicy:
         KeyError
             If the observation lacks ``goal_depths`` (make the env with ``goal_depths=True``).
         """
-        if "goal_depths" not in observation:
-            raise KeyError(
-                f"PBVSPolicy needs observation['goal_depths']: make the env with {self.env_kwargs}"
-            )
-        batched = np.ndim(observation["points"]) == 2
-        obs = observation if batched else {k: np.asarray(v)[None] for k, v in observation.items()}
+        obs, batched = self._as_batch(observation)
         targets, valid = self.goal_pose(obs)
         origin = np.zeros(3)
         actions = np.zeros((len(targets), 2))

@@ -103,13 +103,7 @@ class PBVSEKFPolicy(PBVSPolicy):
         tuple
             ``(action, state)``: ``(2,)`` or ``(B, 2)`` float32 in ``[-1, 1]``, the filters.
         """
-        if "goal_depths" not in observation:
-            raise KeyError(
-                f"PBVSEKFPolicy needs observation['goal_depths']: make the env with "
-                f"{self.env_kwargs}"
-            )
-        batched = np.ndim(observation["points"]) == 2
-        obs = observation if batched else {k: np.asarray(v)[None] for k, v in observation.items()}
+        obs, batched = self._as_batch(observation)
         b = len(obs["points"])
         filters = state if state is not None else [None] * b
         starts = np.ones(b, dtype=bool) if episode_start is None else np.asarray(episode_start)
