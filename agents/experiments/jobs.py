@@ -54,8 +54,9 @@ def init_worker() -> None:
 def run_job(job: Job) -> JobResult:
     """Run a job (in a worker process): its episodes batched where they can be, else one by one.
 
-    Batched (:func:`agents.experiments.batched.run_batch`) or not, a job's rows are the same (timing
-    apart): the analytic policies' bit for bit, the networks' to the last bits.
+    Batched (:func:`agents.experiments.batched.run_batch`) or not, a job's rows are the same
+    through an ideal camera (timing apart); through an imperfect one, to the last digits (the
+    module :mod:`agents.experiments.batched` says how far).
     """
     from agents.experiments.batched import batch_mode, batchable, run_batch
     from agents.runner import DEFAULT_ENV_ID, env_kwargs_for
