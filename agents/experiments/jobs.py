@@ -60,27 +60,39 @@ def run_job(job: Job) -> JobResult:
     """
     from agents.experiments.batched import batch_mode, batchable, run_batch
     from agents.runner import DEFAULT_ENV_ID, env_kwargs_for
-    from radial_ibvs_gym.scenarios import load_scenario
 
     policy = make_policy(job.policy, trust_pickle=job.trust_model)
     # the suite chooses the task per episode: a learned model's training task is dropped
     overrides = {**job.variant.overrides, "task": None}
-    env_id = getattr(policy, "env_id", None) or DEFAULT_ENV_ID
-    kwargs = env_kwargs_for(policy, job.variant.scenario, overrides)
-    n_tasks = load_scenario(job.variant.scenario).n_tasks
+    try:  # a learned model whose observations do not fit the variant's env is skipped
+        env = make_env(policy, job.variant.scenario, overrides)
+    except ValueError as error:
+        return JobResult(job, [], [], skipped=str(error))
+    base: Any = env.unwrapped
+    n_tasks = base.scenario.n_tasks
     ks = list(range(job.first, job.first + job.episodes))
     seeds = [job.variant.seed_offset + k for k in ks]
     tasks = [k % n_tasks if job.variant.cycle_tasks else None for k in ks]
-    try:  # a learned model whose observations do not fit the variant's env is skipped
-        make_env(policy, job.variant.scenario, overrides).close()
-    except ValueError as error:
-        return JobResult(job, [], [], skipped=str(error))
-    if batchable(env_id, kwargs) is None and batch_mode(policy) is not None:
-        logs = run_batch(
-            policy, seeds, job.variant.scenario, overrides, tasks=tasks, policy_name=job.policy
-        )
-    else:
-        logs = _one_by_one(job, policy, overrides, seeds, tasks)
+    env_id = getattr(policy, "env_id", None) or DEFAULT_ENV_ID
+    kwargs = env_kwargs_for(policy, job.variant.scenario, overrides)
+    try:
+        if batchable(env_id, kwargs) is None and batch_mode(policy) is not None:
+            logs = run_batch(
+                policy, seeds, job.variant.scenario, overrides, tasks=tasks, policy_name=job.policy
+            )
+        else:  # the env the fit was checked on runs the episodes
+            logs = [
+                run_episode(
+                    policy,
+                    env,
+                    seed=seed,
+                    options=None if task is None else {"task": task},
+                    policy_name=job.policy,
+                )
+                for seed, task in zip(seeds, tasks, strict=True)
+            ]
+    finally:
+        env.close()
     rows, paths = [], []
     for k, log in zip(ks, logs, strict=True):
         row = log.row()
@@ -94,23 +106,3 @@ def run_job(job: Job) -> JobResult:
         if k < n_tasks or (not job.variant.cycle_tasks and k < 8):
             paths.append((log.task, log.poses[:, :2]))
     return JobResult(job, rows, paths)
-
-
-def _one_by_one(
-    job: Job, policy: Any, overrides: dict[str, Any], seeds: list[int], tasks: list[int | None]
-) -> list[Any]:
-    """Run the job's episodes one at a time in a scalar env (what batching reproduces)."""
-    env = make_env(policy, job.variant.scenario, overrides)
-    try:
-        return [
-            run_episode(
-                policy,
-                env,
-                seed=seed,
-                options=None if task is None else {"task": task},
-                policy_name=job.policy,
-            )
-            for seed, task in zip(seeds, tasks, strict=True)
-        ]
-    finally:
-        env.close()
