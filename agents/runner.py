@@ -28,12 +28,17 @@ from radial_ibvs_gym.registration import check_env_id
 
 __all__ = [
     "DEFAULT_ENV_ID",
+    "RUN_FIELDS",
     "TOLERANCES",
     "EpisodeLog",
     "env_kwargs_for",
     "make_env",
     "run_episode",
 ]
+
+#: a row's fields that describe how it was run, not the episode: the policy's compute per step
+#: (a timing) and how many robots one ``predict`` served (set by the benchmark's chunking)
+RUN_FIELDS = ("compute_us_per_step", "compute_batch")
 
 #: the success tolerances every row reports (position in metres, heading in degrees): the
 #: env's own (2 cm / 2 deg, the ``success`` column) and two looser ones
@@ -149,7 +154,9 @@ class EpisodeLog:
     info
         The last ``info``.
     compute_s
-        Seconds spent in ``predict`` over the episode.
+        Seconds spent in ``predict`` over the episode (stepped in a batch: the robot's share).
+    batch
+        Robots whose actions one ``predict`` gave together at the episode's start (1: alone).
     frames
         ``(T + 1)`` rendered ``(H, W, 3)`` uint8 frames, when :func:`run_episode` was asked to
         record them; empty otherwise.
@@ -174,6 +181,7 @@ class EpisodeLog:
     info: dict[str, Any]
     compute_s: float
     extra: dict[str, Any] = field(default_factory=dict)
+    batch: int = 1
     terminated: bool = False
     frames: list[NDArray[np.uint8]] = field(default_factory=list, repr=False)
 
@@ -255,6 +263,7 @@ class EpisodeLog:
                 name: self.success_at(*tol) for name, tol in TOLERANCES.items()
             },
             "compute_us_per_step": 1e6 * self.compute_s / steps,
+            "compute_batch": self.batch,
             "control_effort": self.control_effort,
             "smoothness": self.smoothness,
             **(

@@ -1,6 +1,7 @@
 """Environment throughput (a script that prints figures, not a timed test).
 
-Usage: ``python benchmarks/bench_envs.py [--quick]`` (or ``make bench``).
+Usage: ``python benchmarks/bench_envs.py [--quick]`` (or ``make bench``);
+``python benchmarks/bench_envs.py --rounds 15`` for the scalar envs against CartPole-v1 alone.
 
 1. The scalar envs: each registered id and physics backend through ``gym.make`` with random
    actions (resetting at episode end), with Gymnasium's CartPole-v1 and Pendulum-v1 as
@@ -9,6 +10,10 @@ Usage: ``python benchmarks/bench_envs.py [--quick]`` (or ``make bench``).
    N = 1, 16, 256, 1024 and 4096 for both backends, beside Gymnasium's ``CartPoleVectorEnv``
    at the same N in the same run, and the scalar pymunk env. Figures are env steps per second
    (N per vector step); ratios matter, absolute numbers move about 30 % between runs here.
+3. With ``--rounds K``, only the scalar ``RadialIBVS/Parking-v0`` (default arguments: paper-sim,
+   pymunk; and kinematic) against ``CartPole-v1`` in K interleaved rounds of one second each
+   (CartPole, then each env, then CartPole again...), and the median of the rounds' ratios:
+   what the machine's load does to one round it does to its neighbours.
 """
 
 from __future__ import annotations
@@ -56,11 +61,39 @@ def vector_steps_per_second(envs: gym.vector.VectorEnv, seconds: float = 2.0) ->
     return calls * envs.num_envs / (time.perf_counter() - start)
 
 
+def interleaved_ratios(rounds: int, seconds: float = 1.0) -> dict[str, list[float]]:
+    """Each scalar Parking-v0's steps/s over CartPole-v1's, one ratio per interleaved round."""
+    envs = {
+        "pymunk": gym.make("RadialIBVS/Parking-v0"),
+        "kinematic": gym.make("RadialIBVS/Parking-v0", physics="kinematic"),
+    }
+    cartpole = gym.make("CartPole-v1")
+    ratios: dict[str, list[float]] = {name: [] for name in envs}
+    for _ in range(rounds):
+        for name, env in envs.items():
+            before = steps_per_second(cartpole, seconds / 2)
+            ours = steps_per_second(env, seconds)
+            after = steps_per_second(cartpole, seconds / 2)
+            ratios[name].append(ours / (0.5 * (before + after)))
+    return ratios
+
+
 def main() -> None:
     """Print the throughput tables."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="shorter timings, N up to 1024")
+    parser.add_argument(
+        "--rounds", type=int, help="only the scalar env against CartPole-v1, interleaved"
+    )
     args = parser.parse_args()
+    if args.rounds is not None:
+        if args.rounds < 1:
+            parser.error(f"--rounds must be a positive integer, got {args.rounds}")
+        print(f"# scalar RadialIBVS/Parking-v0 / CartPole-v1, {args.rounds} interleaved rounds")
+        for name, values in interleaved_ratios(args.rounds).items():
+            q1, median, q3 = np.percentile(values, [25, 50, 75])
+            print(f"{name:<10} median {median:.3f}x CartPole-v1 (quartiles {q1:.3f}-{q3:.3f})")
+        return
     seconds = 1.0 if args.quick else 3.0
     print(f"# env throughput: {platform.machine()}, gymnasium {gym.__version__}")
     yardsticks = {

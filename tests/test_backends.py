@@ -21,9 +21,10 @@ from agents.experiments.backends import RayBackend, import_ray, make_backend
 from agents.experiments.jobs import Job
 from agents.experiments.store import job_key
 from agents.experiments.suites import SUITES
+from agents.runner import RUN_FIELDS
 
 POLICIES, SUITE_NAMES = ["ibvs", "oracle"], ["paper"]
-TIMING = ("compute_us_per_step",)  # the one measured (wall-clock) field of a row
+TIMING = RUN_FIELDS  # how a row was run (a timing, the batch), not the episode
 
 
 def _rows(results) -> str:

@@ -19,9 +19,9 @@ from agents.analytic.registry import ANALYTIC_POLICIES
 from agents.experiments import jobs
 from agents.experiments.batched import batch_mode, batchable, run_batch
 from agents.experiments.suites import SUITES
-from agents.runner import make_env, run_episode
+from agents.runner import RUN_FIELDS, make_env, run_episode
 
-TIMING = "compute_us_per_step"
+TIMING = RUN_FIELDS
 
 
 def _variant(suite: str, label: str) -> Any:
@@ -45,7 +45,7 @@ def _rows(job: jobs.Job, batched: bool, monkeypatch: pytest.MonkeyPatch) -> list
     result = jobs.run_job(job)
     monkeypatch.undo()
     assert result.skipped is None, result.skipped
-    return [{k: v for k, v in row.items() if k != TIMING} for row in result.rows]
+    return [{k: v for k, v in row.items() if k not in TIMING} for row in result.rows]
 
 
 @pytest.mark.parametrize("name", sorted(ANALYTIC_POLICIES))

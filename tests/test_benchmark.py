@@ -13,6 +13,7 @@ from agents.cli import main
 from agents.experiments.benchmark import run_benchmark, summary_rows
 from agents.experiments.evaluate import wilson_interval
 from agents.experiments.suites import SUITES, suite_variants
+from agents.runner import RUN_FIELDS
 
 
 def test_every_suite_of_the_issue_exists_with_its_variants() -> None:
@@ -89,7 +90,7 @@ def test_parallel_workers_give_the_same_rows_as_one_process() -> None:
     kwargs = {"episodes": 2, "progress": False}
     one = run_benchmark(["ibvs", "oracle"], ["physics"], workers=1, **kwargs)
     two = run_benchmark(["ibvs", "oracle"], ["physics"], workers=2, **kwargs)
-    strip = ("compute_us_per_step",)
+    strip = RUN_FIELDS
     for a, b in zip(one, two, strict=True):
         assert [{k: v for k, v in r.items() if k not in strip} for r in a.rows] == [
             {k: v for k, v in r.items() if k not in strip} for r in b.rows

@@ -197,6 +197,7 @@ def test_registry_builds_every_contract_name_and_rejects_unknown_ones() -> None:
         "ibvs-straight",
         "ibvs-straight-filtered",
         "planner",
+        "planner-image-goal",
         "pbvs",
         "pbvs-ekf",
         "random",
@@ -209,7 +210,7 @@ def test_registry_builds_every_contract_name_and_rejects_unknown_ones() -> None:
         assert env.action_space.contains(action)
         # the filters' memories and the planner's plan travel in SB3's state; the others are
         # stateless
-        stateful = ("ibvs-straight-filtered", "planner", "pbvs-ekf")
+        stateful = ("ibvs-straight-filtered", "planner", "planner-image-goal", "pbvs-ekf")
         assert (state is not None) == (name in stateful), name
     with pytest.raises(ValueError, match="unknown policy 'ppo-nothing'"):
         make_policy("ppo-nothing")
@@ -221,3 +222,27 @@ def test_random_policy_is_seeded() -> None:
     b, _ = RandomPolicy(seed=3).predict(obs)
     np.testing.assert_array_equal(a, b)
     assert a.shape == (4, 2)
+
+
+@pytest.mark.parametrize("name", ["ibvs-current", "ibvs-mean"])
+def test_the_classic_variants_act_for_a_batch_as_for_each_robot_alone(name: str) -> None:
+    """Grouped by landmarks in view, stacked pseudo-inverses: each row bit for bit."""
+    policy = make_policy(name)
+    venv = gym.make_vec(
+        "RadialIBVS/Parking-v0",
+        num_envs=24,
+        vectorization_mode="vector_entry_point",
+        scenario="random",
+        physics="kinematic",
+        **policy.env_kwargs,
+    )
+    obs, _ = venv.reset(seed=list(range(24)))
+    obs["visible"][0, 2:] = 0.0  # fewer than 3 landmarks in view: a zero command
+    for step in range(15):
+        batch, _ = policy.predict(obs)
+        if step == 0:
+            assert not batch[0].any() and batch[1:].any()
+        alone = np.array([policy.predict({k: v[i] for k, v in obs.items()})[0] for i in range(24)])
+        np.testing.assert_array_equal(batch, alone)
+        obs, *_ = venv.step(batch)
+    venv.close()

@@ -147,3 +147,62 @@ def test_v0_is_gone_and_v1_makes_without_warnings():
 def test_bad_arguments_are_named(kwargs, match):
     with pytest.raises(ValueError, match=match):
         gym.make("RadialIBVS/ParkingGoal-v1", **KW, **kwargs)
+
+
+def test_goal_depths_add_each_goals_depths_and_the_reward_reads_the_points():
+    from radial_ibvs_gym.envs.parking_goal import depth_observation
+
+    kw = {**KW, "max_landmarks": 16, "goal_depths": True}
+    env = gym.make("RadialIBVS/ParkingGoal-v1", **kw)
+    plain = gym.make("RadialIBVS/ParkingGoal-v1", **{**kw, "goal_depths": False})
+    obs, _ = env.reset(seed=3)
+    base, _ = plain.reset(seed=3)
+    u = env.unwrapped
+    assert obs["achieved_goal"].shape == obs["desired_goal"].shape == (48,)
+    assert env.observation_space.contains(obs)
+    np.testing.assert_array_equal(obs["desired_goal"][:32], base["desired_goal"])
+    np.testing.assert_array_equal(obs["observation"], base["observation"])
+    # the depths of a goal image taken at the goal are the goal depths d*
+    setup = u._setup
+    at_goal = depth_observation(u.config, setup.landmarks_c, setup.episode.goal)
+    np.testing.assert_allclose(at_goal, setup.goal_depths, rtol=1e-12)
+    np.testing.assert_allclose(obs["desired_goal"][32:40], setup.goal_depths, rtol=1e-6)
+    for _ in range(5):
+        action = np.array([0.5, 0.2], dtype=np.float32)
+        obs, reward, _, _, info = env.step(action)
+        base, base_reward, *_ = plain.step(action)
+        assert reward == base_reward  # the depths do not enter the reward
+        assert reward == pytest.approx(
+            float(u.compute_reward(obs["achieved_goal"], obs["desired_goal"], info))
+        )
+    venv = gym.make_vec(
+        "RadialIBVS/ParkingGoal-v1", num_envs=2, vectorization_mode="vector_entry_point", **kw
+    )
+    batch, _ = venv.reset(seed=[3, 4])
+    single, _ = env.reset(seed=3)
+    for key in single:
+        np.testing.assert_array_equal(batch[key][0], single[key])
+
+
+def test_the_goal_pose_extractor_solves_the_students_pose_from_the_goals():
+    torch = pytest.importorskip("torch")
+    from gymnasium import spaces
+
+    from agents.learned.extractors import GoalPoseExtractor, LandmarkPoseExtractor
+    from agents.learned.pose_layer import POSE_FEATURES
+
+    kw = {**KW, "max_landmarks": 16, "goal_depths": True}
+    goal_env = gym.make("RadialIBVS/ParkingGoal-v1", **kw)
+    image_env = gym.make("RadialIBVS/Parking-v0", **kw)
+    obs, _ = goal_env.reset(seed=5)
+    student_obs, _ = image_env.reset(seed=5)
+    keys = ("points", "goal_points", "visible", "goal_depths")
+    student = LandmarkPoseExtractor(
+        spaces.Dict({k: image_env.observation_space[k] for k in keys}), (), point_error=True
+    )
+    mine = GoalPoseExtractor(goal_env.observation_space)
+    ours = mine({k: torch.as_tensor(v)[None] for k, v in obs.items()})
+    theirs = student({k: torch.as_tensor(student_obs[k])[None] for k in keys})
+    torch.testing.assert_close(ours[0, -POSE_FEATURES:], theirs[0, -POSE_FEATURES:])
+    with pytest.raises(ValueError, match="goal_depths=True"):
+        GoalPoseExtractor(gym.make("RadialIBVS/ParkingGoal-v1", **KW).observation_space)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 from agents.cli import main
@@ -15,6 +16,9 @@ from agents.stats import iqm_interval
 def _row(policy: str, suite: str, variant: str, success: bool, end: str, seed: int) -> dict:
     tolerances = {"2cm/2deg": success, "10cm/5deg": True, "30cm/15deg": True}
     return {
+        "final_position_error_m": 0.01 if success else 0.05 + 0.01 * seed,
+        "final_heading_error_deg": 1.0 if success else 3.0,
+        "collision": end == "collision",
         "policy": policy,
         "suite": suite,
         "variant": variant,
@@ -99,6 +103,13 @@ def test_the_command_writes_the_report_and_curves(tmp_path: Path, capsys):
     assert "| held-out: random | 20 |" in text and "## Across training seeds" in text
     assert "one: 40% 80%" in text
     assert (out / "dagger-curves.png").stat().st_size > 1000
+    for figure in ("heatmap.png", "success-curves.png"):
+        assert (out / figure).stat().st_size > 1000 and f"]({figure})" in text
+    pandas = pytest.importorskip("pandas")
+    table = pandas.read_csv(out / "success.csv")
+    ibvs = table[(table.policy == "ibvs") & (table.variant == "random")].iloc[0]
+    assert (ibvs.episodes, ibvs.successes, ibvs.success_rate) == (20, 15, 0.75)
+    assert len(table) == 7  # 4 policies on held-out, 3 on the paper's task
     assert main(["report", str(rows), "--seeds", "oops"]) == 2
     assert "--seeds takes NAME=VALUE" in capsys.readouterr().err
 
@@ -126,3 +137,30 @@ def test_into_regenerates_the_marked_block_and_keeps_the_rest(tmp_path: Path) ->
     assert (tmp_path / "h.png").stat().st_size > 0
     page.write_text("no markers\n")
     assert main(["report", str(rows), "--into", str(page)]) == 2
+
+
+def test_success_curves_count_the_episodes_within_each_tolerance():
+    from agents.experiments.benchmark_plots import success_curve
+
+    rows = [
+        {"final_position_error_m": 0.01, "collision": False},
+        {"final_position_error_m": 0.03, "collision": False},
+        {"final_position_error_m": 0.001, "collision": True},  # hit something: never parked
+        {"final_position_error_m": 0.5, "collision": False},
+    ]
+    curve = success_curve(rows, "final_position_error_m", np.array([0.005, 0.02, 0.1, 1.0]))
+    np.testing.assert_array_equal(curve, [0.0, 0.25, 0.5, 0.75])
+    assert np.isnan(success_curve([], "final_position_error_m", np.array([0.1]))).all()
+
+
+def test_baselines_add_both_limits_the_classical_policies_and_the_student():
+    from agents.cli.benchmark import BASELINES, policies_to_run
+
+    default = ["ibvs", "planner", "planner-image-goal", "random"]
+    assert policies_to_run(["./mine"], True, default, True) == ["./mine", *BASELINES]
+    assert policies_to_run(["./mine", "ibvs"], True, default, True).count("ibvs") == 1
+    assert policies_to_run(None, False, default, True) == default
+    without = policies_to_run(["./mine"], True, default, False)
+    assert "planner" not in without and "pbvs-ekf" in without
+    assert policies_to_run(None, False, default, False) == ["ibvs", "random"]
+    assert policies_to_run(["planner"], False, default, False) == ["planner"]  # named: kept

@@ -19,6 +19,7 @@ from agents.experiments.jobs import Job
 from agents.experiments.store import job_key
 from agents.experiments.suites import SUITES, Variant
 from agents.learned import MODELS_DIR
+from agents.runner import RUN_FIELDS
 from radial_ibvs_gym.config import configs_dir
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -94,8 +95,9 @@ def test_a_chunk_that_fails_its_check_runs_again(damage: str, tmp_path: Path, mo
 
 
 def _rows(results: list) -> list[dict]:
-    timing = "compute_us_per_step"
-    return [{k: v for k, v in row.items() if k != timing} for r in results for row in r.rows]
+    return [
+        {k: v for k, v in row.items() if k not in RUN_FIELDS} for r in results for row in r.rows
+    ]
 
 
 def _children(pid: int) -> list[int]:

@@ -185,6 +185,9 @@ def test_bad_config_values_are_named(tmp_path: Path) -> None:
         load_train_config(path)
     with pytest.raises(ValueError, match="not found"):
         load_train_config(tmp_path / "missing.yaml")
+    path.write_text("RadialIBVS/Parking-v0: {}\nradial_ibvs_gym:\n  extractor: mine.Net\n")
+    with pytest.raises(ValueError, match=r"extractor must be one of .*got 'mine.Net'"):
+        load_train_config(path)
 
 
 def test_benchmark_skips_a_model_whose_observations_do_not_fit_the_suite(trained: Path) -> None:
@@ -206,3 +209,22 @@ def test_export_keeps_a_small_loadable_model_directory(trained: Path, tmp_path: 
     assert json.loads((dest / "metadata.json").read_text())["shipped"]
     obs, _ = gym.make("RadialIBVS/Parking-v0", **load(dest).env_kwargs).reset(seed=0)
     assert load(dest).predict(obs)[0].shape == (2,)
+
+
+def test_ppo_trains_with_the_students_pose_layer(tmp_path: Path) -> None:
+    """``extractor: landmark_pose``: the student's extractor, its raw keys not normalised."""
+    config = tmp_path / "pose.yaml"
+    config.write_text(
+        "base: "
+        + str(Path(__file__).resolve().parents[1] / "research/configs/ppo_pose_layer.yaml")
+        + "\nRadialIBVS/Parking-v0: {n_envs: 4, n_steps: 16, batch_size: 32, n_epochs: 1}\n"
+        + "radial_ibvs_gym: {eval_episodes: 1, eval_freq: 64}\n"
+    )
+    out = train(load_train_config(config), tmp_path / "model", total_timesteps=64, progress=False)
+    policy = load(out)
+    assert type(policy.model.features_extractor).__name__ == "LandmarkPoseExtractor"
+    with np.load(out / "normalization.npz") as saved:
+        normalised = {name.split("/", 1)[1] for name in saved.files if "/" in name}
+    assert normalised == {"landmark_mask"}  # the rest is read raw, as the student's
+    metadata = json.loads((out / "metadata.json").read_text())
+    assert metadata["extractor"] == "landmark_pose"

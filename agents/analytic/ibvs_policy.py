@@ -119,6 +119,7 @@ class IBVSPolicy:
         self.compensation: Literal["derived", "printed"] = compensation
         self.allow_backward = bool(allow_backward)
         self._goal_cache: OrderedDict[bytes, GoalModel | None] = OrderedDict()
+        self._cache_limit = _CACHE_SIZE  # a batch's goals all fit (twice the batch)
         #: the goal terms of the last batch (a residual env steps the same goals all episode)
         self._batch_goals = GoalCache()
 
@@ -181,6 +182,8 @@ class IBVSPolicy:
         batched = points.ndim == 2
         if batched and self.variant in ("paper", "no-frame-change"):
             return self._predict_batch(observation), state
+        if batched:
+            return self._predict_classic_batch(observation), state
         rows = {
             k: np.asarray(v).reshape(len(points) if batched else 1, -1)
             for k, v in observation.items()
@@ -204,6 +207,72 @@ class IBVSPolicy:
             self.stop_radius, self.stop_heading, self.rotate_radius, self.allow_backward,
         )  # fmt: skip
         return np.stack([v_l / v_max, omega / w_max], axis=-1).astype(np.float32)
+
+    def _predict_classic_batch(self, obs: dict[str, Any]) -> NDArray[np.float32]:
+        """Act for a batch of the classic variants, each robot's action as alone, bit for bit.
+
+        Robots with the same number of landmarks in view share array shapes; each such group
+        goes through the interaction matrices and a stacked pseudo-inverse at once (numpy
+        computes every matrix of a stack as it computes one alone). The goal models come from
+        the per-goal cache, sized to hold the batch's goals.
+        """
+        b = len(obs["points"])
+        self._cache_limit = max(_CACHE_SIZE, 2 * b)
+        x_now = np.asarray(obs["points"], dtype=np.float64).reshape(b, -1, 2)
+        x_goal = np.asarray(obs["goal_points"], dtype=np.float64).reshape(b, -1, 2)
+        mask = np.asarray(obs["visible"]).reshape(b, -1) > 0.5
+        norm_now = np.hypot(x_now[..., 0], x_now[..., 1])
+        norm_goal = np.hypot(x_goal[..., 0], x_goal[..., 1])
+        mask &= (norm_now > 0.5) & (norm_goal > 0.5)
+        d_goal = np.asarray(obs["goal_depths"], dtype=np.float64).reshape(b, -1)
+        depths = np.asarray(obs["depths"], dtype=np.float64).reshape(b, -1)
+        groups: dict[int, list[tuple[int, GoalModel]]] = {}
+        for i in range(b):
+            m = mask[i]
+            if m.sum() < 3:
+                continue
+            goal = self._goal_model(x_goal[i, m] / norm_goal[i, m, None], d_goal[i, m], m)
+            if goal is not None:
+                groups.setdefault(int(m.sum()), []).append((i, goal))
+        actions = np.zeros((b, 2), dtype=np.float32)
+        for members in groups.values():
+            rows = [i for i, _ in members]
+            m = mask[rows]
+            now = (x_now[rows][m] / norm_now[rows][m][:, None]).reshape(len(rows), -1, 2)
+            v, gamma = self._classic_twist_batch(
+                now, depths[rows][m].reshape(len(rows), -1), [g for _, g in members]
+            )
+            v_max, w_max = self.robot.max_linear_speed, self.robot.max_angular_speed
+            v_l, omega = park_command_batch(
+                v, gamma, self.lam, self.k1, self.k2, v_max, w_max,
+                self.stop_radius, self.stop_heading, self.rotate_radius, self.allow_backward,
+            )  # fmt: skip
+            actions[rows] = np.stack([v_l / v_max, omega / w_max], axis=-1)
+        return actions
+
+    def _classic_twist_batch(
+        self, x_now: NDArray[np.float64], depths: NDArray[np.float64], goals: list[GoalModel]
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Return :meth:`_classic_twist` of ``G`` robots, ``k`` landmarks: ``(G, 2)``, ``(G,)``."""
+        weights = np.stack([g.weights for g in goals])
+        c_goal = np.stack([g.c_goal for g in goals])
+        z = np.zeros_like(depths)
+        n, m = len(goals), c_goal.shape[1]
+        L = np.empty((n, m + 1, 3))
+        L[:, :-1, :2] = L_cij(x_now, depths, z)[..., :2]
+        L[:, :-1, 2] = 0.0  # c_ij is invariant to rotations about the axis
+        L[:, -1] = L_alpha_m(x_now, depths, z, weights)[:, [0, 1, 5]]
+        if self.variant == "mean":
+            L_goal = np.zeros_like(L)
+            L_goal[:, :-1, :2] = np.stack([g.L_c_v for g in goals])
+            L_goal[:, -1] = [(*g.L_alpha_m_v, -1.0) for g in goals]
+            L = 0.5 * (L + L_goal)
+        error = np.empty((n, m + 1))
+        error[:, :-1] = c_ij(x_now) - c_goal
+        error[:, -1] = [wrap_angle_scalar(float(a)) for a in alpha_m(x_now, weights)]
+        pinv = np.linalg.pinv(L)
+        u = np.stack([-self.lam * (pinv[k] @ error[k]) for k in range(n)])
+        return u[:, :2], u[:, 2] / self.lam
 
     # --- one observation -------------------------------------------------------------------------
     def _act(self, obs: dict[str, np.ndarray]) -> tuple[float, float]:
@@ -265,7 +334,7 @@ class IBVSPolicy:
         except ValueError:  # degenerate goal image (points collinear with the axis)
             model = None
         self._goal_cache[key] = model
-        if len(self._goal_cache) > _CACHE_SIZE:
+        if len(self._goal_cache) > self._cache_limit:
             self._goal_cache.popitem(last=False)
         return model
 

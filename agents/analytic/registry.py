@@ -14,7 +14,7 @@ from agents.analytic.ibvs_policy import IBVSPolicy
 from agents.analytic.ibvs_straight import StraightIBVSPolicy
 from agents.analytic.pbvs import PBVSPolicy
 from agents.analytic.pbvs_ekf import PBVSEKFPolicy
-from agents.analytic.planner import MapPlanner
+from agents.analytic.planner import ImageGoalPlanner, MapPlanner
 from agents.analytic.pose_oracle import PoseOracle
 
 __all__ = ["ANALYTIC_POLICIES", "DESCRIPTIONS", "EXTRAS", "make_analytic"]
@@ -30,6 +30,8 @@ ANALYTIC_POLICIES: dict[str, Callable[..., Any]] = {
     "ibvs-straight": lambda **kw: StraightIBVSPolicy(**kw),
     # privileged: the true poses and the map (the limit row of every table)
     "planner": lambda **kw: MapPlanner(**kw),
+    # the planner driving to the pose the goal image shows (the limit the images allow)
+    "planner-image-goal": lambda **kw: ImageGoalPlanner(**kw),
     # measured in the imperfect suite: a temporal filter and an earlier final approach
     "ibvs-straight-filtered": lambda smoothing=0.85, rotate_radius=0.05, **kw: FilteredPolicy(
         StraightIBVSPolicy(rotate_radius=rotate_radius, **kw), smoothing
@@ -51,12 +53,13 @@ DESCRIPTIONS: dict[str, str] = {
     "oracle-backward": "the pose oracle, allowed to drive backward (privileged)",
     "ibvs-straight": "turn, drive straight, turn: the IBVS's estimate of the goal",
     "planner": "plans with the map and the true poses: the task's limit",
+    "planner-image-goal": "the planner driving to the pose the goal image shows: the images' limit",
     "ibvs-straight-filtered": "ibvs-straight through a temporal filter of the image points",
     "pbvs": "position-based: the goal's pose solved from the image, eq. 38 on it",
     "pbvs-ekf": "pbvs on the pose filtered with the robot's own motion (an EKF)",
 }
 #: the ``pip install -e ".[EXTRA]"`` extra a policy needs beyond the core install
-EXTRAS: dict[str, str] = {"planner": "planning"}
+EXTRAS: dict[str, str] = {"planner": "planning", "planner-image-goal": "planning"}
 
 
 def make_analytic(name: str, **kwargs: Any) -> Any:

@@ -15,7 +15,18 @@ from agents.cli._options import (
     suites_help,
 )
 
-__all__ = ["add_parser", "run"]
+__all__ = ["BASELINES", "add_parser", "policies_to_run", "run"]
+
+#: what ``--baselines`` adds: both limits, the classical image-based policies, the student
+BASELINES = (
+    "planner",
+    "planner-image-goal",
+    "ibvs",
+    "ibvs-straight",
+    "pbvs",
+    "pbvs-ekf",
+    "dagger-student",
+)
 
 
 def add_parser(sub: Any) -> None:
@@ -44,6 +55,12 @@ def add_parser(sub: Any) -> None:
     parser.add_argument(
         "--policies", nargs="+", help="default: the analytic policies and every shipped model"
     )
+    parser.add_argument(
+        "--baselines",
+        action="store_true",
+        help="add the baselines to --policies: both limits, the classical image-based "
+        f"policies and the shipped student ({', '.join(BASELINES)})",
+    )
     parser.add_argument("--episodes", type=int, help="per suite variant (default: 200 random, 8)")
     parser.add_argument(
         "--workers",
@@ -65,6 +82,25 @@ def add_parser(sub: Any) -> None:
     add_trust_model_option(parser)
 
 
+def policies_to_run(
+    given: list[str] | None, baselines: bool, default: list[str], ompl: bool
+) -> list[str]:
+    """Return the policies a benchmark runs: ``given``, plus :data:`BASELINES` if asked.
+
+    Without ``given`` and ``baselines``: ``default`` (every policy and shipped model). The
+    planners need OMPL: where it is missing they are left out of the defaults and the
+    baselines (a policy named in ``given`` stays, and fails with its install hint).
+    """
+    policies = list(given or ([] if baselines else default))
+    added = [p for p in BASELINES if p not in policies] if baselines else []
+    if not ompl:
+        planners = ("planner", "planner-image-goal")
+        added = [p for p in added if p not in planners]
+        if not given:
+            policies = [p for p in policies if p not in planners]
+    return [*policies, *added]
+
+
 def run(args: argparse.Namespace) -> int:
     """Run ``radial-ibvs benchmark``; returns the exit code."""
     from rich.console import Console
@@ -81,10 +117,11 @@ def run(args: argparse.Namespace) -> int:
     from agents.io import write_json
     from agents.learned import shipped_models
 
-    policies = args.policies or [*POLICY_NAMES, *shipped_models()]
-    if not args.policies and importlib.util.find_spec("ompl") is None:
-        policies.remove("planner")
-        print(f"without OMPL the planner's limit row is left out: {PLANNING_EXTRA}")
+    default = [*POLICY_NAMES, *shipped_models()]
+    ompl = importlib.util.find_spec("ompl") is not None
+    policies = policies_to_run(args.policies, args.baselines, default, ompl)
+    if not ompl and (not args.policies or args.baselines):
+        print(f"without OMPL the planners' limit rows are left out: {PLANNING_EXTRA}")
     chunks = Path(args.out) / "chunks"
     if args.fresh and chunks.is_dir():
         shutil.rmtree(chunks)

@@ -111,4 +111,8 @@ def _print_summary(name: str, scenario: str, logs: list[Any]) -> None:
         )
     if "ends" in summary:
         print("  ends: " + ", ".join(f"{k} {v}" for k, v in summary["ends"].items()))
-    print(f"  compute {summary['compute_us_per_step']:.0f} us/step")
+    batch = int(summary.get("compute_batch", 1))
+    print(
+        f"  compute {summary['compute_us_per_step']:.0f} us/step"
+        + (f" per robot ({batch} robots per call)" if batch > 1 else " (one robot per call)")
+    )

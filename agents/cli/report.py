@@ -28,7 +28,9 @@ def add_parser(sub: Any) -> None:
             "limit first, 95 % Wilson intervals) and how the episodes ended; with --seeds, "
             "each group of training seeds' rates and their IQM with a stratified-bootstrap "
             "interval; with --curves, DAgger students' per-round success. With --out, writes "
-            "OUT/report.md and OUT/dagger-curves.png."
+            "OUT/report.md with its figures (the success heat map, the success curves, the "
+            "DAgger curves) and OUT/success.csv (one row per suite variant and policy: what "
+            "pandas reads)."
         ),
     )
     parser.add_argument("rows", type=Path, nargs="+", help="episodes.json of benchmark runs")
@@ -108,6 +110,7 @@ def run(args: argparse.Namespace) -> int:
     if seeds:
         parts += ["## Across training seeds", "", seeds_table(rows, seeds, args.tolerance)]
     if curves:
+        args.out.mkdir(parents=True, exist_ok=True)
         figure = args.out / "dagger-curves.png"
         parts += [
             "## DAgger rounds",
@@ -116,13 +119,47 @@ def run(args: argparse.Namespace) -> int:
             "",
             dagger_curves(curves, figure),
         ]
+    if args.out is not None:
+        parts += _figures(args, rows, renames)
     text = "\n".join(parts)
     print(text)
     if args.out is not None:
-        args.out.mkdir(parents=True, exist_ok=True)
         write_atomic(args.out / "report.md", text.encode())
         print(f"saved {args.out / 'report.md'}")
     return 0
+
+
+def _figures(args: argparse.Namespace, rows: list[dict[str, Any]], renames: dict) -> list[str]:
+    """Write the heat map, the success curves and ``success.csv`` into ``--out``; their lines."""
+    from agents.experiments.benchmark_plots import plot_success, plot_success_curves
+    from agents.experiments.report import success_csv, success_summaries
+    from agents.io import write_atomic
+
+    args.out.mkdir(parents=True, exist_ok=True)
+    renamed = [{**r, "policy": renames.get(str(r["policy"]), r["policy"])} for r in rows]
+    kept = [r for r in renamed if not args.suites or r["suite"] in args.suites]
+    summaries = success_summaries(kept, args.policies)
+    plot_success(summaries, args.out / "heatmap.png")
+    write_atomic(args.out / "success.csv", success_csv(summaries).encode())
+    lines = ["## Success per suite variant", "", "![success heat map](heatmap.png)", ""]
+    shown = list(dict.fromkeys(str(s["policy"]) for s in summaries))
+    with_errors = [r for r in kept if r["policy"] in shown and "final_position_error_m" in r]
+    if with_errors:
+        plot_success_curves(with_errors, args.out / "success-curves.png", shown)
+        lines += [
+            "## Success curves",
+            "",
+            "The share of episodes that end within a tolerance, as the tolerance grows (every "
+            "suite above together; a collision is outside every tolerance).",
+            "",
+            "![success curves](success-curves.png)",
+            "",
+        ]
+    return [
+        *lines,
+        "One row per suite variant and policy: [success.csv](success.csv) (`pandas.read_csv`).",
+        "",
+    ]
 
 
 def _write_into(args: argparse.Namespace, rows: list[dict[str, Any]], renames: dict) -> None:

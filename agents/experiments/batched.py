@@ -54,6 +54,7 @@ _MODES = {
     "HistoryPolicy": "batch",
     "ResidualPolicy": "batch",
     "MapPlanner": "robot",
+    "ImageGoalPlanner": "robot",
 }
 
 
@@ -255,6 +256,7 @@ def _run(
                 info=info,
                 compute_s=float(compute[i]),
                 terminated=bool(terminated_at[i]),
+                batch=n if exact else 1,
             )
         )
     return logs

@@ -84,7 +84,8 @@ def run_benchmark(
     -------
     list of JobResult
         One per policy and variant, its rows in seed order. The rows do not depend on the
-        backend, the workers or on resuming, except ``compute_us_per_step`` (a timing).
+        backend, the workers or on resuming, except ``compute_us_per_step`` (a timing) and
+        ``compute_batch`` (how many robots one call served, which the chunking sets).
 
     Raises
     ------
@@ -146,6 +147,10 @@ def _merge(chunks: Sequence[JobResult]) -> list[JobResult]:
 
 #: the policy whose rate is every table's limit: a planner with the true poses and the map
 LIMIT = "planner"
+#: the limit the images allow: the same planner driving to the pose the goal image shows
+IMAGE_GOAL_LIMIT = "planner-image-goal"
+#: both limits, in the order the tables show them
+LIMITS = (LIMIT, IMAGE_GOAL_LIMIT)
 
 
 def summary_rows(results: Sequence[JobResult]) -> list[dict[str, Any]]:
@@ -165,8 +170,14 @@ def summary_rows(results: Sequence[JobResult]) -> list[dict[str, Any]]:
         )
         out.append(summary)
     limits = {(s["suite"], s["variant"]): s["success_rate"] for s in out if s["policy"] == LIMIT}
-    for summary in out:  # the physical limit beside every policy: the planner's rate
+    image = {
+        (s["suite"], s["variant"]): s["success_rate"]
+        for s in out
+        if s["policy"] == IMAGE_GOAL_LIMIT
+    }
+    for summary in out:  # the limits beside every policy: the planners' rates
         summary["limit"] = limits.get((summary["suite"], summary["variant"]))
+        summary["image_goal_limit"] = image.get((summary["suite"], summary["variant"]))
     return out
 
 
@@ -176,9 +187,16 @@ def _ends(summary: dict[str, Any]) -> str:
     return ", ".join(f"{k} {v}" for k, v in ends.items()) or "-"
 
 
-def _limit(summary: dict[str, Any]) -> str:
-    value = summary.get("limit")
+def _limit(summary: dict[str, Any], key: str = "limit") -> str:
+    value = summary.get(key)
     return "-" if value is None else f"{value:.0%}"
+
+
+def _compute(summary: dict[str, Any]) -> str:
+    """Return the compute per step and robot, and how many robots one call served."""
+    batch = int(summary.get("compute_batch", 1))
+    us = _fmt(summary["compute_us_per_step"], digits=0)
+    return us if batch <= 1 else f"{us} (x{batch})"
 
 
 def _fmt(value: float, scale: float = 1.0, digits: int = 2) -> str:
@@ -188,13 +206,14 @@ def _fmt(value: float, scale: float = 1.0, digits: int = 2) -> str:
 def markdown_table(summaries: Sequence[dict[str, Any]]) -> str:
     """Format the summaries as a Markdown table."""
     lines = [
-        "| suite | variant | physics | policy | success | 95% CI | limit | failures "
+        "| suite | variant | physics | policy | success | 95% CI | limit | image-goal limit "
+        "| failures "
         "| 10 cm / 5 deg "
         "| 30 cm / 15 deg "
         "| pos. err. median / p95 [cm] "
         "| head. err. median / p95 [deg] | time [s] | path [m] | effort | smooth. "
-        "| coll. | us/step |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
+        "| coll. | us/step (batch) |",
+        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for s in summaries:
         lo, hi = s["success_ci95"]
@@ -205,12 +224,13 @@ def markdown_table(summaries: Sequence[dict[str, Any]]) -> str:
         lines.append(
             f"| {s['suite']} | {s['variant']} | {s['physics']} | {s['policy']} "
             f"| {s['success_rate']:.0%} "
-            f"| {lo:.0%}-{hi:.0%} | {_limit(s)} | {_ends(s)} | {cells[0]} | {cells[1]} "
+            f"| {lo:.0%}-{hi:.0%} | {_limit(s)} | {_limit(s, 'image_goal_limit')} "
+            f"| {_ends(s)} | {cells[0]} | {cells[1]} "
             f"| {_fmt(s['position_error_m_median'], 100)} / {_fmt(s['position_error_m_p95'], 100)} "
             f"| {_fmt(s['heading_error_deg_median'])} / {_fmt(s['heading_error_deg_p95'])} "
             f"| {_fmt(s['time_s_median'], digits=1)} | {_fmt(s['path_m_median'])} "
             f"| {_fmt(s['control_effort'])} | {_fmt(s['smoothness'], digits=3)} "
-            f"| {s['collisions']} | {_fmt(s['compute_us_per_step'], digits=0)} |"
+            f"| {s['collisions']} | {_compute(s)} |"
         )
     return "\n".join(lines) + "\n"
 
@@ -225,6 +245,7 @@ def rich_table(summaries: Sequence[dict[str, Any]]) -> Any:
         "policy",
         "success (95% CI)",
         "limit",
+        "image-goal limit",
         "failures",
         "pos. err. [cm]",
         "head. err. [deg]",
@@ -239,6 +260,7 @@ def rich_table(summaries: Sequence[dict[str, Any]]) -> Any:
             s["policy"],
             f"{s['success_rate']:.0%} ({lo:.0%}-{hi:.0%})",
             _limit(s),
+            _limit(s, "image_goal_limit"),
             _ends(s),
             _fmt(s["position_error_m_median"], 100),
             _fmt(s["heading_error_deg_median"]),
@@ -267,6 +289,7 @@ _CSV_COLUMNS = (
     "success_10cm_5deg",
     "success_30cm_15deg",
     "compute_us_per_step",
+    "compute_batch",
     "control_effort",
     "smoothness",
 )

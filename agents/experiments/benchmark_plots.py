@@ -20,8 +20,10 @@ __all__ = [
     "draw_convergence_map",
     "plot_convergence_map",
     "plot_success",
+    "plot_success_curves",
     "plot_trajectories",
     "starts_in_goal_frame",
+    "success_curve",
 ]
 
 
@@ -74,6 +76,83 @@ def plot_success(summaries: Sequence[dict[str, Any]], path: Path) -> Path:
     ax.set_yticks(range(len(groups)))
     ax.set_yticklabels([f"{suite}: {variant}" for suite, variant in groups], fontsize=8)
     ax.set_title("success rate per suite variant (small: 95% interval)", fontsize=9)
+    fig.tight_layout()
+    return save_figure(fig, path)
+
+
+def success_curve(
+    rows: Sequence[Mapping[str, Any]], key: str, tolerances: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Return the fraction of ``rows`` whose final ``key`` error is within each tolerance.
+
+    Parameters
+    ----------
+    rows
+        Benchmark rows with ``final_position_error_m`` and ``final_heading_error_deg``.
+    key
+        ``"final_position_error_m"`` (metres) or ``"final_heading_error_deg"`` (degrees).
+    tolerances
+        ``(T,)`` tolerances, in the key's unit.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(T,)`` in ``[0, 1]``; an episode that ended in a collision counts as outside every
+        tolerance (its final pose is where it hit, not where it parked).
+    """
+    errors = np.array(
+        [np.inf if r.get("collision") else float(r[key]) for r in rows], dtype=np.float64
+    )
+    if not len(errors):
+        return np.full(len(tolerances), np.nan)
+    return (errors[None, :] <= np.asarray(tolerances)[:, None]).mean(axis=1)
+
+
+def plot_success_curves(
+    rows: Sequence[Mapping[str, Any]], path: Path, policies: Sequence[str] | None = None
+) -> Path:
+    """Draw success curves: the share of episodes parked within a tolerance, as it grows.
+
+    Two panels over every row given (choose the suites before): the final position error
+    (centimetres, 0.5 to 100, log scale) and the final heading error (degrees, 0.2 to 90). A
+    curve that rises early parks precisely; its height at the right is how often the robot
+    got near at all. The dotted lines are the benchmark's tolerance (2 cm, 2 deg).
+
+    Raises
+    ------
+    ValueError
+        If no row has the final errors.
+    """
+    keys = ("final_position_error_m", "final_heading_error_deg")
+    rows = [r for r in rows if all(k in r for k in keys)]
+    if not rows:
+        raise ValueError("no rows with final_position_error_m and final_heading_error_deg")
+    plt = pyplot()
+    shown = list(policies or dict.fromkeys(str(r["policy"]) for r in rows))
+    fig, axes = plt.subplots(1, 2, figsize=(10.0, 4.0))
+    panels = (
+        ("final_position_error_m", np.geomspace(0.005, 1.0, 120), 100.0, "position (cm)", 2.0),
+        ("final_heading_error_deg", np.geomspace(0.2, 90.0, 120), 1.0, "heading (deg)", 2.0),
+    )
+    for ax, (key, tolerances, scale, label, mark) in zip(axes, panels, strict=True):
+        for policy in shown:
+            mine = [r for r in rows if r["policy"] == policy]
+            if mine:
+                dashed = policy.startswith("planner")
+                ax.plot(
+                    scale * tolerances,
+                    success_curve(mine, key, tolerances),
+                    "--" if dashed else "-",
+                    label=policy,
+                )
+        ax.axvline(mark, color="grey", linestyle=":", linewidth=1)
+        ax.set_xscale("log")
+        ax.set_ylim(0.0, 1.02)
+        ax.set_xlabel(f"tolerance, final {label}")
+        ax.grid(alpha=0.3)
+    axes[0].set_ylabel("episodes within the tolerance")
+    axes[1].legend(fontsize=7, loc="upper left")
+    fig.suptitle(f"success curves ({len(rows)} episodes; dashed: the limits)", fontsize=10)
     fig.tight_layout()
     return save_figure(fig, path)
 

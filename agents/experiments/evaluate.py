@@ -142,6 +142,7 @@ def summarise(rows: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
         ),
         "collisions": sum(bool(r["collision"]) for r in rows),
         "compute_us_per_step": float(np.mean([r["compute_us_per_step"] for r in rows])),
+        "compute_batch": max((int(r.get("compute_batch", 1)) for r in rows), default=1),
         **_tolerances_and_ends(rows),
     }
 

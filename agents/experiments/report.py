@@ -28,6 +28,7 @@ __all__ = [
     "replace_block",
     "results_table",
     "seeds_table",
+    "success_csv",
     "success_summaries",
 ]
 
@@ -66,11 +67,13 @@ def load_rows(paths: Sequence[Path | str]) -> list[dict[str, Any]]:
 
 
 def _policies(rows: Sequence[Mapping[str, Any]], wanted: Sequence[str] | None) -> list[str]:
-    """Return the policies to show: ``wanted`` (those with rows), else the planner first."""
+    """Return the policies to show: ``wanted`` (those with rows), else the two limits first."""
     present = list(dict.fromkeys(str(r["policy"]) for r in rows))
     if wanted:
         return [p for p in wanted if p in present]
-    return sorted(present, key=lambda p: (p != "planner", present.index(p)))
+    limits = ("planner", "planner-image-goal")
+    first = [p for p in limits if p in present]
+    return first + [p for p in present if p not in limits]
 
 
 def results_table(
@@ -339,6 +342,37 @@ def success_summaries(
         )
     out.sort(key=lambda s: shown.index(str(s["policy"])))
     return out
+
+
+def success_csv(summaries: Sequence[Mapping[str, Any]]) -> str:
+    """Return :func:`success_summaries` as CSV: one row per suite variant and policy.
+
+    Columns: ``suite``, ``variant``, ``policy``, ``episodes``, ``successes``,
+    ``success_rate``, ``ci95_low``, ``ci95_high`` (what ``pandas.read_csv`` reads as is).
+    """
+    import io
+
+    buffer = io.StringIO()
+    writer = csv.writer(buffer, lineterminator="\n")
+    writer.writerow(
+        [
+            "suite",
+            "variant",
+            "policy",
+            "episodes",
+            "successes",
+            "success_rate",
+            "ci95_low",
+            "ci95_high",
+        ]
+    )
+    for s in summaries:
+        lo, hi = s["success_ci95"]
+        wins = round(s["success_rate"] * s["episodes"])
+        writer.writerow(
+            [s["suite"], s["variant"], s["policy"], s["episodes"], wins, s["success_rate"], lo, hi]
+        )
+    return buffer.getvalue()
 
 
 def replace_block(path: Path | str, name: str, text: str) -> str:

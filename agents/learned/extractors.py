@@ -33,6 +33,7 @@ __all__ = [
     "POINT_KEYS",
     "POSE_HISTORY_KEYS",
     "ErrorScaleExtractor",
+    "GoalPoseExtractor",
     "LandmarkPoseExtractor",
     "LandmarkSetExtractor",
     "error_key_of",
@@ -325,3 +326,66 @@ class LandmarkPoseExtractor(LandmarkSetExtractor):
     def extra_repr(self) -> str:
         """Return the settings, for ``print(policy)``."""
         return f"{super().extra_repr()}, pose_eps={self.pose_eps}, pose_history={self.pose_history}"
+
+
+class GoalPoseExtractor(LandmarkPoseExtractor):
+    """:class:`LandmarkPoseExtractor` on ``ParkingGoal-v1``'s goal-conditioned observation (HER).
+
+    ``ParkingGoal-v1`` made with ``goal_depths=True`` gives each goal as its image points and
+    depths (``(3M,)``: ``achieved_goal`` the current image with the depths a goal image taken
+    here would have, ``desired_goal`` the goal image with ``d*``) and the visibility in
+    ``observation``. These are read as the student's keys (``points``, ``goal_points``,
+    ``goal_depths``, ``visible``), so the goal's pose is solved from the bearings of whichever
+    goal HER hands in, relabelled or not.
+
+    Parameters
+    ----------
+    observation_space
+        ``ParkingGoal-v1``'s ``Dict`` space, ``goal_depths=True``.
+    token_dim, pose_eps
+        As :class:`LandmarkPoseExtractor`.
+
+    Raises
+    ------
+    ValueError
+        If the goals do not carry depths (the env made without ``goal_depths=True``).
+    """
+
+    def __init__(
+        self, observation_space: spaces.Dict, token_dim: int = 64, pose_eps: float = 1e-3
+    ) -> None:
+        keys = ("observation", "achieved_goal", "desired_goal")
+        sizes = [
+            int(np.prod(observation_space.spaces[k].shape or ()))
+            for k in keys
+            if k in observation_space.spaces
+        ]
+        if len(sizes) != 3 or sizes[0] % 3 or sizes[1] != sizes[0] or sizes[2] != sizes[0]:
+            raise ValueError(
+                "GoalPoseExtractor needs ParkingGoal-v1 made with goal_depths=True (goals of "
+                f"3M values, the observation of 3M); got sizes {sizes} for {list(keys)}"
+            )
+        m = sizes[0] // 3
+        inner = spaces.Dict(
+            {
+                "points": spaces.Box(-1.0, 1.0, (2 * m,), np.float32),
+                "goal_points": spaces.Box(-1.0, 1.0, (2 * m,), np.float32),
+                "visible": spaces.Box(0.0, 1.0, (m,), np.float32),
+                "goal_depths": spaces.Box(0.0, 1e3, (m,), np.float32),
+            }
+        )
+        super().__init__(inner, (), point_error=True, token_dim=token_dim, pose_eps=pose_eps)
+        self.landmarks = m
+
+    def forward(self, observations: dict[str, torch.Tensor]) -> torch.Tensor:
+        """Return the ``(B, features_dim)`` features of the goal-conditioned observation."""
+        m = self.landmarks
+        achieved = observations["achieved_goal"].float()
+        desired = observations["desired_goal"].float()
+        mapped = {
+            "points": achieved[:, : 2 * m],
+            "goal_points": desired[:, : 2 * m],
+            "visible": observations["observation"].float()[:, 2 * m :],
+            "goal_depths": desired[:, 2 * m :],
+        }
+        return super().forward(mapped)

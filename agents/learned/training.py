@@ -46,7 +46,7 @@ from agents.learned.model_files import (
 )
 from agents.learned.provenance import jsonable, provenance, versions
 from agents.learned.residual import ResidualVecEnv
-from agents.learned.zoo_config import TrainConfig
+from agents.learned.zoo_config import TRAIN_EXTRACTORS, TrainConfig
 from agents.plotting import save_figure
 from agents.untrusted import check_archive, read_json
 
@@ -217,6 +217,41 @@ def _restore_normalization(venv: VecNormalize, path: Path, default_count: float)
         venv.ret_rms.count = count
 
 
+def _with_extractor(config: TrainConfig, space: Any) -> tuple[dict[str, Any], list[str] | None]:
+    """Return the policy's keyword arguments and the keys to normalise (``None``: all).
+
+    With ``config.extractor`` (a student's extractor by name), the policy gets that class with
+    the student's settings (the error keys as direction and log-size, the image error), and the
+    keys the extractor reads raw are left out of ``VecNormalize``, as the student's are.
+    """
+    if config.extractor is None:
+        return dict(config.policy_kwargs), None
+    from agents.learned import extractors
+
+    if config.extractor == "goal_pose":  # every key read raw
+        extractor = {"features_extractor_class": extractors.GoalPoseExtractor}
+        return {**config.policy_kwargs, **extractor}, []
+    landmark_set = config.extractor in ("landmark_set", "landmark_pose")
+    error_keys = tuple(k for k in extractors.ERROR_KEYS if k in space.spaces)
+    raw = extractors.raw_keys(error_keys, True, landmark_set)
+    missing = sorted(set(raw) - set(space.spaces))
+    if missing:
+        where = config.source.get("file", "the config")
+        raise ValueError(
+            f"{where}: extractor {config.extractor!r} needs the observation keys {missing} "
+            "(env_kwargs obs_mode: features, goal_depths: true)"
+        )
+    kwargs = {
+        **config.policy_kwargs,
+        "features_extractor_class": getattr(extractors, TRAIN_EXTRACTORS[config.extractor]),
+        "features_extractor_kwargs": {"error_keys": list(error_keys), "point_error": True},
+    }
+    normalised = [
+        k for k in space.spaces if k not in raw and extractors.error_key_of(k, error_keys) is None
+    ]
+    return kwargs, normalised
+
+
 def _make_venv(env_id: str, n_envs: int, seed: int, env_kwargs: dict[str, Any]) -> Any:
     """Make the native batched ``VecEnv`` where the id has one, else SB3's ``DummyVecEnv``."""
     from agents.learned.sb3_vec_env import make_vec_env
@@ -301,15 +336,18 @@ def train(
     init = _FineTune.read(Path(init_from), algo) if init_from is not None else None
     if init is not None and init.history is not None:
         venv, eval_env = (history_vec_env(v, init.history) for v in (venv, eval_env))
+    policy_kwargs, normalised = _with_extractor(config, venv.observation_space)
     if config.normalize is not None:
-        keys: dict[str, Any] = {} if init is None else {"norm_obs_keys": init.normalised_keys}
+        keys: dict[str, Any] = {} if normalised is None else {"norm_obs_keys": normalised}
+        if init is not None:
+            keys = {"norm_obs_keys": init.normalised_keys}
         venv = VecNormalize(venv, **config.normalize, **keys)
         eval_env = VecNormalize(eval_env, training=False, norm_reward=False, **keys)
     model = ALGOS[algo](
         config.policy,
         venv,
         seed=seed,
-        policy_kwargs=config.policy_kwargs if init is None else init.policy_kwargs,
+        policy_kwargs=policy_kwargs if init is None else init.policy_kwargs,
         device="cpu",
         verbose=0,
         **config.algo_kwargs,
@@ -372,6 +410,7 @@ def train(
         **({"history": init.history.as_dict()} if init and init.history else {}),
         **({"init_from": str(init_from)} if init_from is not None else {}),
         **({"fine_tune": config.fine_tune.as_dict()} if init and config.fine_tune else {}),
+        **({"extractor": config.extractor} if config.extractor and init is None else {}),
         "total_timesteps": int(model.num_timesteps),
         **provenance(command, config.source),
         "versions": versions(),

@@ -16,17 +16,24 @@ from pathlib import Path
 from typing import Any
 
 from agents.learned.curriculum import CurriculumConfig
+from agents.learned.distill_config import EXTRACTORS
 from agents.learned.fine_tune import FineTuneConfig
 from agents.learned.residual import ResidualConfig
 from radial_ibvs_gym.config import read_yaml_with_base
 from radial_ibvs_gym.registration import check_env_id
 
-__all__ = ["TrainConfig", "load_train_config", "parse_kwargs_string"]
+__all__ = ["TRAIN_EXTRACTORS", "TrainConfig", "load_train_config", "parse_kwargs_string"]
 
 #: rl-zoo3's keys that are not the algorithm's keyword arguments
 _ZOO_KEYS = {"n_envs", "n_timesteps", "policy", "normalize", "policy_kwargs", "env_wrapper"}
+#: the feature extractors a training config may name (``radial_ibvs_gym.extractor``): the
+#: student's (classes of :mod:`agents.learned.extractors`), and the pose layer on
+#: ``ParkingGoal-v1``'s goals for HER
+TRAIN_EXTRACTORS = {**EXTRACTORS, "goal_pose": "GoalPoseExtractor"}
+
 _META_KEYS = {
     "env_kwargs", "eval_freq", "eval_episodes", "eval_seed", "residual", "curriculum", "fine_tune",
+    "extractor",
 }  # fmt: skip
 
 
@@ -64,6 +71,12 @@ class TrainConfig:
     fine_tune
         How a fine-tuning from a student starts (:class:`agents.learned.fine_tune.
         FineTuneConfig`), or ``None``; used only with ``init_from``.
+    extractor
+        ``None`` (SB3's ``CombinedExtractor`` on the normalised observation) or the name of one
+        of the student's feature extractors (:data:`agents.learned.training.TRAIN_EXTRACTORS`:
+        ``landmark_pose`` adds the goal's pose solved from the bearings; ``goal_pose`` is the
+        same on ``ParkingGoal-v1`` with ``goal_depths``, for HER); the keys it reads raw are
+        left out of the normalisation.
     source
         The file and section it came from, and the raw section (for the model's metadata).
     """
@@ -82,6 +95,7 @@ class TrainConfig:
     residual: ResidualConfig | None = None
     curriculum: CurriculumConfig | None = None
     fine_tune: FineTuneConfig | None = None
+    extractor: str | None = None
     source: dict[str, Any] = field(default_factory=dict)
 
 
@@ -318,5 +332,15 @@ def load_train_config(path: Path | str, env_id: str | None = None) -> TrainConfi
         else FineTuneConfig.from_mapping(
             meta["fine_tune"], f"{path.name}[radial_ibvs_gym].fine_tune"
         ),
+        extractor=_extractor(meta.get("extractor"), f"{path.name}[radial_ibvs_gym].extractor"),
         source={"file": str(path), "env_id": env_id, "section": section, "meta": meta},
     )
+
+
+def _extractor(value: Any, where: str) -> str | None:
+    """Validate the ``extractor:`` entry: ``None`` or a name of the student's extractors."""
+    if value is None:
+        return None
+    if not isinstance(value, str) or value not in TRAIN_EXTRACTORS:
+        raise ValueError(f"{where} must be one of {list(TRAIN_EXTRACTORS)} or null, got {value!r}")
+    return value

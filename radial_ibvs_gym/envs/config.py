@@ -86,6 +86,7 @@ class ParkingConfig:
     privileged: bool = False
     goal_depths: bool = False
     privileged_map: bool = False
+    privileged_goal: Literal["true", "image"] = "true"
     measurement: Literal["ideal", "detected"] = "ideal"
     image_size: int = 256
     beacon_radius: float = 0.08
@@ -221,6 +222,14 @@ class ParkingConfig:
                     "measurement='detected' does not take camera imperfection_ranges; give "
                     "fixed imperfections, or use measurement='ideal'"
                 )
+        if self.privileged_goal not in ("true", "image"):
+            raise ValueError(
+                f"unknown privileged_goal {self.privileged_goal!r}; valid: ['true', 'image']"
+            )
+        if self.privileged_goal == "image" and not self.privileged:
+            raise ValueError(
+                "privileged_goal='image' changes the privileged goal_pose: needs privileged=True"
+            )
         if self.slot_order not in ("fixed", "random"):
             raise ValueError(f"unknown slot_order {self.slot_order!r}; valid: ['fixed', 'random']")
         if self.slot_order == "random" and self.max_landmarks is None:

@@ -11,6 +11,7 @@ so a seed gives the same episode in both.
 from __future__ import annotations
 
 import functools
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -22,6 +23,7 @@ from radial_ibvs_gym.envs.missed import MissedState
 from radial_ibvs_gym.envs.observation import camera_image, radial_image, unit_or_dummy
 from radial_ibvs_gym.features import c_ij
 from radial_ibvs_gym.geometry import world_to_camera, wrap_angle_scalar
+from radial_ibvs_gym.geometry.bearing_pose import solve_goal_pose
 from radial_ibvs_gym.physics.base import footprint_collides, start_pose_error
 from radial_ibvs_gym.scenarios import Episode
 from radial_ibvs_gym.vision.pipeline import DetectedPoints
@@ -59,6 +61,10 @@ class EpisodeSetup:
         once at reset when ``privileged_map=True``; else ``None``.
     missed
         The episode's missed detections (``missed_detections``), or ``None``.
+    image_goal
+        ``(3,)`` the *image goal* (``privileged_goal="image"``): the pose whose noise-free
+        image through the episode's camera matches the goal image
+        (:meth:`EpisodeSource.image_goal`); else ``None``.
     """
 
     episode: Episode
@@ -73,6 +79,12 @@ class EpisodeSetup:
     map: dict[str, np.ndarray] | None = None
     slot_order: np.ndarray | None = None
     missed: MissedState | None = None
+    image_goal: np.ndarray | None = None
+
+    @property
+    def privileged_goal(self) -> np.ndarray:
+        """The goal pose the privileged observation shows: the image goal, else the true goal."""
+        return self.episode.goal if self.image_goal is None else self.image_goal
 
 
 class EpisodeSource:
@@ -172,12 +184,48 @@ class EpisodeSource:
             setup.c_goal = c_ij(unit_or_dummy(setup.goal_points, setup.goal_visible))
         if self.config.privileged_map:  # fixed for the episode: computed once, copied at each step
             setup.map = self.map_observation(setup.episode)
+        if self.config.privileged_goal == "image":  # noise-free images: no draw from rng
+            setup.image_goal = self.image_goal(setup)
         if self.config.missed_detections is not None:
             setup.missed = self.config.missed_detections.start(rng, len(setup.episode.landmarks))
         if self.config.slot_order == "random":  # the last draw: the episode is the same as fixed's
             assert self.config.slots is not None
             setup.slot_order = self.config.slots.draw_order(rng)
         return setup
+
+    def image_goal(self, setup: EpisodeSetup, iterations: int = 20) -> np.ndarray:
+        """Return the pose ``(x, y, yaw)`` that the episode's goal image shows (metres, radians).
+
+        An image-based policy knows the goal only through the goal image; through a noisy camera
+        that image is a noisy draw, and the pose it shows is not quite the goal. This is the
+        pose whose noise-free image through the episode's current camera matches the goal
+        image: from the true goal, the goal's pose relative to the noise-free image is solved
+        from the bearings and the goal depths
+        (:func:`radial_ibvs_gym.geometry.bearing_pose.solve_goal_pose`), the pose moves there,
+        and so on until the move is under a micrometre (at most ``iterations`` moves). A
+        calibration error alone moves no goal (the goal image goes through the same camera);
+        noise does. The true goal where the pose cannot be solved (fewer than three
+        landmarks). No random draw: the episode is the same with or without it.
+        """
+        pose = np.array(setup.episode.goal, dtype=np.float64)
+        for _ in range(iterations):
+            points, visible = self.image(setup, pose, "current", None)
+            mask = visible & setup.goal_visible
+            relative, valid = solve_goal_pose(points, setup.goal_points, setup.goal_depths, mask)
+            if not bool(valid):
+                return np.array(setup.episode.goal, dtype=np.float64)
+            tx, ty, c, s = (float(v) for v in relative)
+            cos_yaw, sin_yaw = math.cos(pose[2]), math.sin(pose[2])
+            pose = np.array(
+                [
+                    pose[0] + cos_yaw * tx - sin_yaw * ty,
+                    pose[1] + sin_yaw * tx + cos_yaw * ty,
+                    wrap_angle_scalar(pose[2] + math.atan2(s, c)),
+                ]
+            )
+            if math.hypot(tx, ty) < 1e-6 and abs(s) < 1e-6:
+                break
+        return pose
 
     def _episode_cameras(
         self, rng: np.random.Generator

@@ -388,18 +388,26 @@ class Slots:
 
 
 def goal_observation(
-    points: Array, visible: NDArray[np.bool_], goal_points: Array
+    points: Array,
+    visible: NDArray[np.bool_],
+    goal_points: Array,
+    depths: Array | None = None,
+    goal_depths: Array | None = None,
 ) -> dict[str, NDArray[np.float32]]:
     """Build the ``ParkingGoal-v1`` observation dict (goal-conditioned, for HER).
 
     ``points``, ``goal_points``: ``(..., 2N)`` flattened image points; ``visible``: ``(..., N)``.
+    With ``depths`` and ``goal_depths`` (``(..., N)``, metres: the depths that come with the
+    current image, were it a goal image, and the goal depths ``d*``), each goal is the image
+    points followed by its depths, ``(..., 3N)``.
     """
     achieved = np.asarray(points, dtype=np.float32)
-    return {
-        "observation": np.concatenate([achieved, np.asarray(visible, dtype=np.float32)], axis=-1),
-        "achieved_goal": achieved,
-        "desired_goal": np.asarray(goal_points, dtype=np.float32),
-    }
+    desired = np.asarray(goal_points, dtype=np.float32)
+    observation = np.concatenate([achieved, np.asarray(visible, dtype=np.float32)], axis=-1)
+    if depths is not None and goal_depths is not None:
+        achieved = np.concatenate([achieved, np.asarray(depths, dtype=np.float32)], axis=-1)
+        desired = np.concatenate([desired, np.asarray(goal_depths, dtype=np.float32)], axis=-1)
+    return {"observation": observation, "achieved_goal": achieved, "desired_goal": desired}
 
 
 def observation_space(config: ParkingConfig) -> spaces.Dict:

@@ -135,6 +135,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | ``goal_depths`` | ``False`` | add the goal depths ``d*`` to the observation (IBVS) |
     | ``privileged`` | ``False`` | add the true poses and depths to the observation |
     | ``privileged_map`` | ``False`` | add the map (room, obstacles, landmarks; see below) |
+    | ``privileged_goal`` | ``"true"`` | ``"image"``: ``goal_pose`` is the goal image's pose |
     | ``measurement`` | ``"ideal"`` | ``"ideal"`` projection, or ``"detected"`` (see below) |
     | ``image_size`` / ``beacon_radius`` | ``256`` / ``0.08`` | detected mode: pixels / metres |
     | ``image_noise`` / ``image_blur`` / ``exposure`` | ``0`` / ``0`` / ``1`` | detected mode |
@@ -459,7 +460,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             features=features,
             goal_depths=self._setup.goal_depths if config.goal_depths else None,
             robot_pose=pose,
-            goal_pose=self._setup.episode.goal if config.privileged else None,
+            goal_pose=self._setup.privileged_goal if config.privileged else None,
             landmarks=self._setup.landmarks_c if config.privileged else None,
             slots=config.slots,
             slot_order=self._setup.slot_order,

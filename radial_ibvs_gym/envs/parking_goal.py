@@ -20,6 +20,7 @@ __all__ = [
     "ParkingGoalEnv",
     "ParkingGoalVectorEnv",
     "check_goal_arguments",
+    "depth_observation",
     "goal_observation_space",
 ]
 
@@ -43,15 +44,36 @@ def check_goal_arguments(obs_mode: str, power: float, tolerance: float) -> tuple
 
 
 def goal_observation_space(config: ParkingConfig) -> spaces.Dict:
-    """Return ``ParkingGoal-v1``'s observation space (``M`` entries: the slots or the scene's)."""
+    """Return ``ParkingGoal-v1``'s observation space (``M`` entries: the slots or the scene's).
+
+    With ``goal_depths``, each goal is ``(3M,)``: the image points, then the depths (metres).
+    """
     m = config.observed_landmarks
+    goal = spaces.Box(-1.0, 1.0, (2 * m,), np.float32)
+    if config.goal_depths:
+        low = np.concatenate([-np.ones(2 * m), np.zeros(m)]).astype(np.float32)
+        high = np.concatenate([np.ones(2 * m), np.full(m, 1e3)]).astype(np.float32)
+        goal = spaces.Box(low, high, dtype=np.float32)
     return spaces.Dict(
         {
             "observation": spaces.Box(-1.0, 1.0, (3 * m,), np.float32),
-            "achieved_goal": spaces.Box(-1.0, 1.0, (2 * m,), np.float32),
-            "desired_goal": spaces.Box(-1.0, 1.0, (2 * m,), np.float32),
+            "achieved_goal": goal,
+            "desired_goal": goal,
         }
     )
+
+
+def depth_observation(
+    config: ParkingConfig, landmarks: NDArray[np.complex128], poses: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Return the depths that would come with an image taken at ``poses`` ``(..., 3)``, metres.
+
+    The landmarks' horizontal distances ``(..., N)`` times the scenario's ``depth_scale``, as
+    the goal depths ``d*`` are given: what a goal image taken here would come with, so that
+    HER's relabelled goals carry depths as the true goals do.
+    """
+    position = poses[..., 0:1] + 1j * poses[..., 1:2]
+    return config.scenario.config.depth_scale * np.abs(landmarks - position)
 
 
 class GoalReward:
@@ -69,7 +91,14 @@ class GoalReward:
     def reward_terms_of(
         self, achieved_goal: np.ndarray, desired_goal: np.ndarray, info: Any
     ) -> dict[str, np.ndarray]:
-        """Return the named terms of :meth:`compute_reward` (a step's ``info["reward_<term>"]``)."""
+        """Return the named terms of :meth:`compute_reward` (a step's ``info["reward_<term>"]``).
+
+        With ``goal_depths``, only the goals' image points count (their first ``2M`` values).
+        """
+        if self.config.goal_depths:
+            points = 2 * self.config.observed_landmarks
+            achieved_goal = np.asarray(achieved_goal)[..., :points]
+            desired_goal = np.asarray(desired_goal)[..., :points]
         return rules.goal_reward_terms(
             achieved_goal,
             desired_goal,
@@ -115,6 +144,13 @@ class ParkingGoalEnv(GoalReward, ParkingEnv):
     | ``observation`` | ``Box(-1, 1, (3M,))`` | current ``x_n`` (flattened), visibility mask |
     | ``achieved_goal`` | ``Box(-1, 1, (2M,))`` | current ``x_n``, flattened (zeros where hidden) |
     | ``desired_goal`` | ``Box(-1, 1, (2M,))`` | goal image ``x_n*``, flattened |
+
+    With ``goal_depths=True`` each goal also carries its depths, ``(3M,)``: ``desired_goal``
+    the goal depths ``d*`` after the goal image, ``achieved_goal`` the depths a goal image
+    taken at the current pose would come with (the landmarks' horizontal distances, times the
+    scenario's ``depth_scale``), so a relabelled goal has depths as a true one does; the
+    reward reads the image points only. What a policy that solves the goal's pose from the
+    bearings needs (``agents.learned.extractors.GoalPoseExtractor``).
 
     **The step reward equals** ``compute_reward(achieved_goal, desired_goal, info)``, the
     ``GoalEnv`` rule that HER relies on (:func:`~radial_ibvs_gym.envs.rules.goal_reward_terms`).
@@ -186,9 +222,16 @@ class ParkingGoalEnv(GoalReward, ParkingEnv):
             "visible": np.asarray(self._visible, dtype=np.float32),
             "goal_points": self._setup.goal_points.reshape(-1),
         }
+        if self.config.goal_depths:
+            pose = self.world.pose if self.world is not None else self._setup.episode.start
+            obs["depths"] = depth_observation(self.config, self._setup.landmarks_c, pose)
+            obs["goal_depths"] = self._setup.goal_depths
         if self.slots is not None:
             obs = self.slots.pad(obs, self._setup.slot_order)
-        return seen.goal_observation(obs["points"], obs["visible"], obs["goal_points"])
+        return seen.goal_observation(
+            obs["points"], obs["visible"], obs["goal_points"], obs.get("depths"),
+            obs.get("goal_depths"),
+        )  # fmt: skip
 
 
 class ParkingGoalVectorEnv(GoalReward, ParkingVectorEnv):
@@ -228,9 +271,16 @@ class ParkingGoalVectorEnv(GoalReward, ParkingVectorEnv):
             "goal_points": self._goal_points[idx].reshape(n, -1),
         }
         t = self.config
+        if t.goal_depths:
+            landmarks, poses = self._landmarks_c[idx], self.fleet.poses[idx]
+            obs["depths"] = depth_observation(t, landmarks, poses)
+            obs["goal_depths"] = self._goal_depths[idx]
         if t.slots is not None:
             obs = t.slots.pad(obs, self._slot_orders[idx] if t.slot_order == "random" else None)
-        return seen.goal_observation(obs["points"], obs["visible"], obs["goal_points"])
+        return seen.goal_observation(
+            obs["points"], obs["visible"], obs["goal_points"], obs.get("depths"),
+            obs.get("goal_depths"),
+        )  # fmt: skip
 
     def _reward_terms(
         self,

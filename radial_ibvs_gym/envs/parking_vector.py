@@ -159,6 +159,7 @@ class ParkingVectorEnv(VectorEnv):
         self._landmarks_w = np.zeros((n, nl, 3))  # world frame (the imperfect camera's input)
         self._bounds = np.zeros((2, n, nl))  # current camera: visible distance interval
         self._goals = np.zeros((n, 3))
+        self._privileged_goals = np.zeros((n, 3))  # the image goal with privileged_goal="image"
         self._tasks = np.zeros(n, dtype=np.int64)
         self._goal_points = np.zeros((n, nl, 2))
         self._goal_visible = np.zeros((n, nl), dtype=bool)
@@ -256,6 +257,7 @@ class ParkingVectorEnv(VectorEnv):
                 assert bounds is not None
                 self._bounds[0, i], self._bounds[1, i] = bounds
             self._goals[i] = episode.goal
+            self._privileged_goals[i] = setup.privileged_goal
             self._tasks[i] = episode.task
             self._goal_points[i] = setup.goal_points
             self._goal_visible[i] = setup.goal_visible
@@ -462,7 +464,7 @@ class ParkingVectorEnv(VectorEnv):
             features=extra,
             goal_depths=self._goal_depths[idx] if t.goal_depths else None,
             robot_pose=self.fleet.poses[idx] if t.privileged else None,
-            goal_pose=self._goals[idx] if t.privileged else None,
+            goal_pose=self._privileged_goals[idx] if t.privileged else None,
             landmarks=self._landmarks_c[idx] if t.privileged else None,
             slots=t.slots,
             slot_order=self._slot_orders[idx] if t.slot_order == "random" else None,
