@@ -29,6 +29,7 @@ from radial_ibvs_gym.scenarios import Scenario, ScenarioConfig, load_scenario
 
 __all__ = [
     "MAX_GOAL_IMAGE_FRAMES",
+    "MAX_HOLD_STEPS",
     "OBS_MODES",
     "REWARD_WEIGHTS",
     "ParkingConfig",
@@ -37,6 +38,8 @@ __all__ = [
 
 #: the most noisy frames the goal image may average (``goal_image_frames``)
 MAX_GOAL_IMAGE_FRAMES = 1000
+#: the most steps in a row within the tolerances a success may ask (``success_hold_steps``)
+MAX_HOLD_STEPS = 600
 
 
 class UnknownArgumentError(TypeError, ValueError):
@@ -96,6 +99,7 @@ class ParkingConfig:
     control_dt: float = 0.1
     success_position_m: float = 0.02
     success_heading_deg: float = 2.0
+    success_hold_steps: int = 1
     min_visible: int = 3
     terminate_on_collision: bool = True
     max_landmarks: int | None = None
@@ -179,7 +183,9 @@ class ParkingConfig:
                 raise ValueError(f"{name} must be finite and positive, got {value!r}")
 
     def __post_init__(self) -> None:
-        for name in ("task", "max_landmarks", "min_visible", "goal_image_frames"):
+        for name in (
+            "task", "max_landmarks", "min_visible", "goal_image_frames", "success_hold_steps",
+        ):  # fmt: skip
             value = getattr(self, name)
             if value is not None and (isinstance(value, bool) or not isinstance(value, int)):
                 raise ValueError(f"{name} must be an integer, got {value!r}")
@@ -189,6 +195,11 @@ class ParkingConfig:
             raise ValueError(f"task must be in 0..{self.scenario.n_tasks - 1}, got {self.task!r}")
         if not (3 <= self.min_visible <= n):
             raise ValueError(f"min_visible must be in 3..{n}, got {self.min_visible!r}")
+        if not (1 <= self.success_hold_steps <= MAX_HOLD_STEPS):
+            raise ValueError(
+                f"success_hold_steps must be in 1..{MAX_HOLD_STEPS}, "
+                f"got {self.success_hold_steps!r}"
+            )
         if not (1 <= self.goal_image_frames <= MAX_GOAL_IMAGE_FRAMES):
             raise ValueError(
                 f"goal_image_frames must be in 1..{MAX_GOAL_IMAGE_FRAMES}, got "

@@ -141,6 +141,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | ``image_noise`` / ``image_blur`` / ``exposure`` | ``0`` / ``0`` / ``1`` | detected mode |
     | ``control_dt`` | ``0.1`` | control period, seconds |
     | ``success_position_m`` / ``success_heading_deg`` | ``0.02`` / ``2.0`` | success tolerances |
+    | ``success_hold_steps`` | ``1`` | steps in a row within them for success (1: a pass counts) |
     | ``min_visible`` | ``3`` | fewer visible landmarks terminate the episode |
     | ``terminate_on_collision`` | ``True`` | |
     | ``max_landmarks`` | ``None`` | landmark slots: pad to this many, add ``landmark_mask`` |
@@ -207,6 +208,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.episode: Episode | None = None
         self._setup: EpisodeSetup | None = None
         self._prev_errors: tuple[Any, Any] = (0.0, 0.0)
+        self._held = 0  # steps in a row within the tolerances (success_hold_steps)
 
     # --- the config's values that users and wrappers read ---------------------------------------
     @property
@@ -272,7 +274,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         result = self.world.step(command, config.control_dt)
         self._observe(result.pose)
         now = rules.pose_errors(result.pose.tolist(), self._goal)
-        success, lost, terminated = rules.episode_end(
+        success, lost, terminated, self._held = rules.episode_end(
             *now,
             self._n_visible,
             result.collision,
@@ -280,6 +282,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             success_heading_rad=config.success_heading_rad,
             min_visible=config.min_visible,
             terminate_on_collision=config.terminate_on_collision,
+            held=self._held,
+            hold_steps=config.success_hold_steps,
         )
         terms = rules.reward_terms(
             self._prev_errors, now, result.collision, lost, success, config.weights
@@ -322,6 +326,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         else:
             self._observe(episode.start)
         self._prev_errors = rules.pose_errors(episode.start.tolist(), self._goal)
+        self._held = 0  # steps in a row within the tolerances
         self._renderer = None
         self._trail: list[np.ndarray] = [episode.start[:2].copy()]
         if self.render_mode == "human":

@@ -160,6 +160,7 @@ class ParkingVectorEnv(VectorEnv):
         self._bounds = np.zeros((2, n, nl))  # current camera: visible distance interval
         self._goals = np.zeros((n, 3))
         self._privileged_goals = np.zeros((n, 3))  # the image goal with privileged_goal="image"
+        self._held = np.zeros(n, dtype=np.int64)  # steps in a row within the tolerances
         self._tasks = np.zeros(n, dtype=np.int64)
         self._goal_points = np.zeros((n, nl, 2))
         self._goal_visible = np.zeros((n, nl), dtype=bool)
@@ -284,6 +285,7 @@ class ParkingVectorEnv(VectorEnv):
         errors = rules.pose_errors(poses[indices].T, goals)
         self._prev[0][indices], self._prev[1][indices] = errors
         self._elapsed[indices] = 0
+        self._held[indices] = 0
 
     # --- step ----------------------------------------------------------------------------------
     def step(
@@ -321,7 +323,7 @@ class ParkingVectorEnv(VectorEnv):
             self._observe(poses, np.arange(n))
         now = rules.pose_errors(poses.T, self._goals.T)
         n_visible = self._visible.sum(axis=1)
-        success, lost, terminated = rules.episode_end(
+        success, lost, terminated, self._held = rules.episode_end(
             *now,
             n_visible,
             collision,
@@ -329,6 +331,8 @@ class ParkingVectorEnv(VectorEnv):
             success_heading_rad=t.success_heading_rad,
             min_visible=t.min_visible,
             terminate_on_collision=t.terminate_on_collision,
+            held=self._held,
+            hold_steps=t.success_hold_steps,
         )
         terms = self._reward_terms(self._prev, now, collision, lost, success)
         reward = sum(terms.values(), np.zeros(n))

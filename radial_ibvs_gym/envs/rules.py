@@ -146,18 +146,24 @@ def episode_end(
     success_heading_rad: float,
     min_visible: int,
     terminate_on_collision: bool,
-) -> tuple[Any, Any, Any]:
-    """Success, lost and termination of a step (bools, or ``(B,)`` bool arrays).
+    held: Any = 0,
+    hold_steps: int = 1,
+) -> tuple[Any, Any, Any, Any]:
+    """Success, lost, termination and the steps held within the tolerances (``(B,)`` arrays).
 
-    Success: both errors within the tolerances. Lost: fewer than ``min_visible`` landmarks
-    visible. Termination: success, lost, or a collision when ``terminate_on_collision``.
+    Success: both errors within the tolerances for ``hold_steps`` steps in a row (``held``:
+    the steps in a row before this one; 1: the first step within them, a pass counts). Lost:
+    fewer than ``min_visible`` landmarks visible. Termination: success, lost, or a collision
+    when ``terminate_on_collision``. Returns ``(success, lost, terminated, held now)``.
     """
-    success = (position_error <= success_position_m) & (heading_error <= success_heading_rad)
+    within = (position_error <= success_position_m) & (heading_error <= success_heading_rad)
+    held = (held + 1) * within
+    success = held >= hold_steps
     lost = n_visible < min_visible
     terminated = success | lost
     if terminate_on_collision:
         terminated = terminated | collision
-    return success, lost, terminated
+    return success, lost, terminated, held
 
 
 def reward_terms(
