@@ -91,8 +91,10 @@ def main() -> None:
     args = parser.parse_args()
     variant = _variant(args.variant)
     print(f"{args.variant}, {args.episodes} episodes, {args.after} steps after each success")
-    print("| policy | parked | still within 2 cm / 2 deg | within 5 cm / 5 deg | median error "
-          "after [cm] | median path after [m] |")
+    print(
+        "| policy | parked | still within 2 cm / 2 deg | within 5 cm / 5 deg | median error "
+        "after [cm] | median path after [m] |"
+    )
     print("|---|---|---|---|---|---|")
     for name in args.policies:
         r = settle(name, variant, args.episodes, args.after)
