@@ -219,3 +219,20 @@ def test_a_looser_tolerance_counts_a_close_time_out_but_not_a_close_crash() -> N
     assert crash.end == "collision" and not crash.success_at(0.3, 15.0)
     lost = log(2.0, 90.0, collision=False, terminated=True)
     assert lost.end == "lost" and not lost.success_at(0.3, 15.0)
+
+
+def test_each_suites_time_is_summed_from_its_jobs_and_resumed_chunks_are_counted_apart():
+    from agents.experiments.benchmark import suite_timings, timings_table
+    from agents.experiments.jobs import Job, JobResult
+
+    paper, held = SUITES["paper"][0], SUITES["held-out"][0]
+    results = [
+        JobResult(Job("ibvs", paper, 2), [{}, {}], [], wall_s=3.0),
+        JobResult(Job("pbvs", paper, 2), [{}, {}], [], wall_s=1.0),
+        JobResult(Job("ibvs", held, 3), [{}, {}, {}], [], wall_s=None),  # loaded, not run
+    ]
+    timings = {t["suite"]: t for t in suite_timings(results)}
+    assert timings["paper"]["seconds"] == 4.0 and timings["paper"]["episodes"] == 4
+    assert timings["held-out"]["resumed"] == 1 and timings["held-out"]["seconds"] == 0.0
+    table = timings_table(results, workers=2)
+    assert "| paper | 4 | 4 | 100% | 2 s |" in table and "held-out (1 resumed)" in table

@@ -137,6 +137,10 @@ def test_into_regenerates_the_marked_block_and_keeps_the_rest(tmp_path: Path) ->
     assert (tmp_path / "h.png").stat().st_size > 0
     page.write_text("no markers\n")
     assert main(["report", str(rows), "--into", str(page)]) == 2
+    page.write_text("a\n<!-- held:start -->\n<!-- held:end -->\nb\n")
+    assert main(["report", str(rows), "--into", str(page), "--block", "held"]) == 0
+    assert "| held-out: random | 20 |" in page.read_text()
+    assert main(["report", str(rows), "--into", str(page), "--block", "a b"]) == 2
 
 
 def test_success_curves_count_the_episodes_within_each_tolerance():

@@ -51,7 +51,7 @@ def add_backend_options(parser: Any, task: str) -> None:
     parser
         An ``argparse`` parser.
     task
-        What one Ray task runs, for the help text (e.g. ``"20-episode chunk"``).
+        What one Ray task runs, for the help text (e.g. ``"100-episode chunk"``).
     """
     from agents.experiments.backends import BACKENDS
 

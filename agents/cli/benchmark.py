@@ -68,7 +68,7 @@ def add_parser(sub: Any) -> None:
         default=2,
         help="local processes, or the CPUs of a private Ray instance (default: %(default)s)",
     )
-    add_backend_options(parser, "20-episode chunk")
+    add_backend_options(parser, "100-episode chunk")
     parser.add_argument(
         "--out",
         type=Path,
@@ -111,10 +111,11 @@ def run(args: argparse.Namespace) -> int:
         rich_table,
         run_benchmark,
         summary_rows,
+        timings_table,
         write_outputs,
     )
     from agents.experiments.suites import SUITES
-    from agents.io import write_json
+    from agents.io import write_atomic, write_json
     from agents.learned import shipped_models
 
     default = [*POLICY_NAMES, *shipped_models()]
@@ -145,6 +146,9 @@ def run(args: argparse.Namespace) -> int:
         if result.skipped:
             print(f"skipped {result.job.policy} on {result.job.variant.suite}: {result.skipped}")
     written = write_outputs(results, args.out)
+    timings = timings_table(results, args.workers)
+    print(f"time per suite (each job timed in its worker):\n{timings}")
+    written.append(write_atomic(Path(args.out) / "timings.md", timings.encode()))
     if args.json is not None:
         rows = [row for result in results for row in result.rows]
         written.append(write_json(args.json, rows))

@@ -74,6 +74,13 @@ def add_parser(sub: Any) -> None:
         "<!-- results:end --> lines (the README, a results page), with the command that made it",
     )
     parser.add_argument(
+        "--block",
+        default="results",
+        metavar="NAME",
+        help="with --into: the block's name, <!-- NAME:start --> (default: %(default)s; a page "
+        "with several generated tables names each)",
+    )
+    parser.add_argument(
         "--heatmap", type=Path, metavar="PNG", help="draw the success heat map of the rows here"
     )
 
@@ -175,5 +182,7 @@ def _write_into(args: argparse.Namespace, rows: list[dict[str, Any]], renames: d
     command = shlex.join(["radial-ibvs", *getattr(args, "argv", sys.argv[1:])])
     n = len({(r["suite"], r["variant"], r["policy"], r["seed"]) for r in rows})
     text = f"{table}\n<sub>Generated from {n} benchmark episodes by `{command}`.</sub>\n"
-    write_atomic(args.into, replace_block(args.into, "results", text).encode())
+    if not args.block.replace("-", "").replace("_", "").isalnum():
+        raise ValueError(f"--block must be letters, digits, '-' or '_', got {args.block!r}")
+    write_atomic(args.into, replace_block(args.into, args.block, text).encode())
     print(f"updated {args.into}")

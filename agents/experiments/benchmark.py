@@ -1,6 +1,6 @@
 """``radial-ibvs benchmark``: every policy on the same suites, seeds and metrics.
 
-Jobs (one per policy, suite variant and chunk of at most 20 seeded episodes) run in parallel
+Jobs (one per policy, suite variant and chunk of at most 100 seeded episodes) run in parallel
 processes or as Ray tasks (:mod:`agents.experiments.backends`), and each finished chunk can be
 saved at once, so that a rerun resumes (:mod:`agents.experiments.store`). Each episode gives a row
 (the JSON contract of ``--json`` plus ``variant``, control effort, smoothness and the start and
@@ -33,7 +33,9 @@ __all__ = [
     "markdown_table",
     "rich_table",
     "run_benchmark",
+    "suite_timings",
     "summary_rows",
+    "timings_table",
     "write_outputs",
 ]
 
@@ -137,10 +139,11 @@ def _merge(chunks: Sequence[JobResult]) -> list[JobResult]:
     for r in sorted(chunks, key=lambda r: r.job.first):
         key = (r.job.policy, r.job.variant.suite, r.job.variant.label)
         if key not in merged:
-            merged[key] = JobResult(Job(r.job.policy, r.job.variant, 0), [], [], r.skipped)
+            merged[key] = JobResult(Job(r.job.policy, r.job.variant, 0), [], [], r.skipped, 0.0)
         m = merged[key]
         m.rows.extend(r.rows)
         m.paths.extend(r.paths)
+        m.wall_s = None if m.wall_s is None or r.wall_s is None else m.wall_s + r.wall_s
         m.job = Job(r.job.policy, r.job.variant, m.job.episodes + r.job.episodes)
     return list(merged.values())  # the jobs' order: first chunks come first, stably sorted
 
@@ -293,6 +296,48 @@ _CSV_COLUMNS = (
     "control_effort",
     "smoothness",
 )
+
+
+def suite_timings(results: Sequence[JobResult]) -> list[dict[str, Any]]:
+    """Return the worker-seconds each suite's jobs took, per suite and in all.
+
+    A job's time is measured in its worker; with several workers the wall clock is about the
+    total divided by the workers. Jobs loaded from saved chunks (a resumed run) have no time
+    and are counted apart (``resumed``).
+    """
+    suites: dict[str, dict[str, Any]] = {}
+    for r in results:
+        entry = suites.setdefault(
+            r.job.variant.suite, {"suite": r.job.variant.suite, "seconds": 0.0, "episodes": 0,
+                                  "jobs": 0, "resumed": 0},
+        )  # fmt: skip
+        entry["episodes"] += len(r.rows)
+        if r.wall_s is None:
+            entry["resumed"] += 1
+        else:
+            entry["seconds"] += r.wall_s
+            entry["jobs"] += 1
+    return sorted(suites.values(), key=lambda e: -e["seconds"])
+
+
+def timings_table(results: Sequence[JobResult], workers: int) -> str:
+    """Return :func:`suite_timings` as Markdown, with the wall clock it implies per suite."""
+    rows = suite_timings(results)
+    total = sum(r["seconds"] for r in rows)
+    lines = [
+        f"| suite | episodes | worker-seconds | share | about, with {workers} workers |",
+        "|---|---:|---:|---:|---:|",
+    ]
+    for r in rows:
+        share = r["seconds"] / total if total else 0.0
+        resumed = f" ({r['resumed']} resumed)" if r["resumed"] else ""
+        lines.append(
+            f"| {r['suite']}{resumed} | {r['episodes']} | {r['seconds']:.0f} | {share:.0%} "
+            f"| {r['seconds'] / max(workers, 1):.0f} s |"
+        )
+    lines.append(f"| all | {sum(r['episodes'] for r in rows)} | {total:.0f} | 100% "
+                 f"| {total / max(workers, 1):.0f} s |")  # fmt: skip
+    return "\n".join(lines) + "\n"
 
 
 def write_outputs(results: Sequence[JobResult], out_dir: Path | str) -> list[Path]:

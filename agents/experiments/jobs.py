@@ -6,6 +6,7 @@ any backend.
 
 from __future__ import annotations
 
+import time
 from dataclasses import dataclass
 from typing import Any
 
@@ -30,8 +31,10 @@ class Job:
     trust_model: bool = False
 
 
-#: episodes per job: long variants are split so that the workers share them
-CHUNK = 20
+#: episodes per job: long variants are split so that the workers share them. A job's episodes
+#: step together in one vector env (:mod:`agents.experiments.batched`), so a larger chunk
+#: amortises each batched call over more robots: 100 covers most variants in one job
+CHUNK = 100
 
 
 @dataclass
@@ -42,6 +45,8 @@ class JobResult:
     rows: list[dict[str, Any]]
     paths: list[tuple[int | None, np.ndarray]]
     skipped: str | None = None
+    #: seconds the job took in its worker (``None``: loaded from a saved chunk, not run now)
+    wall_s: float | None = None
 
 
 def init_worker() -> None:
@@ -61,6 +66,7 @@ def run_job(job: Job) -> JobResult:
     from agents.experiments.batched import batch_mode, batchable, run_batch
     from agents.runner import DEFAULT_ENV_ID, env_kwargs_for
 
+    start = time.perf_counter()
     policy = make_policy(job.policy, trust_pickle=job.trust_model)
     # the suite chooses the task per episode: a learned model's training task is dropped
     overrides = {**job.variant.overrides, "task": None}
@@ -105,4 +111,4 @@ def run_job(job: Job) -> JobResult:
         rows.append(row)
         if k < n_tasks or (not job.variant.cycle_tasks and k < 8):
             paths.append((log.task, log.poses[:, :2]))
-    return JobResult(job, rows, paths)
+    return JobResult(job, rows, paths, wall_s=time.perf_counter() - start)
