@@ -19,7 +19,17 @@ import torch
 from agents.experiments import batched, jobs
 from agents.experiments.suites import SUITES
 
-POLICIES = ("ibvs", "ibvs-straight", "ibvs-straight-filtered", "dagger-student", "ppo-residual")
+POLICIES = (
+    "ibvs",
+    "ibvs-current",
+    "ibvs-mean",
+    "ibvs-straight",
+    "ibvs-straight-filtered",
+    "pbvs",
+    "pbvs-ekf",
+    "dagger-student",
+    "ppo-residual",
+)
 
 
 def run(policy: str, episodes: int, batch: bool) -> tuple[float, float, int]:
@@ -44,6 +54,7 @@ def main() -> None:
     """Print the table."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--episodes", type=int, default=100, help="default: %(default)s")
+    parser.add_argument("--policies", nargs="+", default=list(POLICIES), help="default: all")
     args = parser.parse_args()
     torch.set_num_threads(1)
     print(f"{platform.processor() or platform.machine()}, torch threads 1, {args.episodes} "
@@ -52,7 +63,7 @@ def main() -> None:
         f"{'policy':<24}{'steps':>7}{'alone s':>9}{'batched s':>11}{'speed-up':>10}"
         f"{'us/step alone':>15}{'us/step batched':>17}"
     )
-    for policy in POLICIES:
+    for policy in args.policies:
         wall_alone, us_alone, steps = run(policy, args.episodes, batch=False)
         wall_batch, us_batch, _ = run(policy, args.episodes, batch=True)
         print(

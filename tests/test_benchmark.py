@@ -236,3 +236,38 @@ def test_each_suites_time_is_summed_from_its_jobs_and_resumed_chunks_are_counted
     assert timings["held-out"]["resumed"] == 1 and timings["held-out"]["seconds"] == 0.0
     table = timings_table(results, workers=2)
     assert "| paper | 4 | 4 | 100% | 2 s |" in table and "held-out (1 resumed)" in table
+
+
+def test_every_policy_is_judged_alike_whatever_its_training_env_asked(monkeypatch):
+    """A model trained with ``success_hold_steps: 10`` is judged as every other policy."""
+    from agents.experiments import jobs
+    from agents.learned import load
+    from agents.runner import env_kwargs_for
+
+    model = load("ppo-pose-layer")
+    assert model.env_kwargs.get("success_hold_steps") == 10  # what its training asked
+    seen = {}
+    real = jobs.make_env
+
+    def spy(policy, scenario, overrides):
+        seen.update(env_kwargs_for(policy, scenario, overrides))
+        return real(policy, scenario, overrides)
+
+    monkeypatch.setattr(jobs, "make_env", spy)
+    variant = next(v for v in SUITES["paper"] if v.label == "d*")
+    result = jobs.run_job(jobs.Job("ppo-pose-layer", variant, 1))
+    assert result.skipped is None
+    assert seen["success_hold_steps"] == 1 and seen["success_position_m"] == 0.02
+
+
+def test_success_hold_steps_judges_every_policy_by_a_held_pose():
+    kwargs = {"episodes": 2, "progress": False}
+    first = run_benchmark(["ibvs-straight"], ["paper"], **kwargs)
+    held = run_benchmark(["ibvs-straight"], ["paper"], success_hold_steps=10, **kwargs)
+    for a, b in zip(first, held, strict=True):
+        for row_a, row_b in zip(a.rows, b.rows, strict=True):
+            assert row_a["success"] and row_b["success"]  # it stops at the goal: it stays
+            assert row_b["steps"] == row_a["steps"] + 9
+    for bad in (0, True, 601):
+        with pytest.raises(ValueError, match="success_hold_steps"):
+            run_benchmark(["ibvs"], ["paper"], success_hold_steps=bad, **kwargs)

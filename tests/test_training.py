@@ -216,7 +216,7 @@ def test_ppo_trains_with_the_students_pose_layer(tmp_path: Path) -> None:
     config = tmp_path / "pose.yaml"
     config.write_text(
         "base: "
-        + str(Path(__file__).resolve().parents[1] / "research/configs/ppo_pose_layer.yaml")
+        + str(Path(__file__).resolve().parents[1] / "configs/agents/ppo_pose_layer.yaml")
         + "\nRadialIBVS/Parking-v0: {n_envs: 4, n_steps: 16, batch_size: 32, n_epochs: 1}\n"
         + "radial_ibvs_gym: {eval_episodes: 1, eval_freq: 64}\n"
     )

@@ -63,6 +63,15 @@ def add_parser(sub: Any) -> None:
     )
     parser.add_argument("--episodes", type=int, help="per suite variant (default: 200 random, 8)")
     parser.add_argument(
+        "--success-hold-steps",
+        type=int,
+        default=1,
+        metavar="N",
+        help="a success needs the pose within the tolerances N steps in a row, for every "
+        "policy (default: %(default)s, the first step within them; 10: held 1 s, so a policy "
+        "passing through the goal does not count)",
+    )
+    parser.add_argument(
         "--workers",
         type=int,
         default=2,
@@ -137,6 +146,7 @@ def run(args: argparse.Namespace) -> int:
         store=chunks,
         notify=print,
         trust_model=args.trust_model,
+        success_hold_steps=args.success_hold_steps,
     )
     console = Console()
     if not console.is_terminal:  # piped or redirected: every column, however wide

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -26,6 +27,7 @@ from agents.experiments.jobs import CHUNK, Job, JobResult, init_worker, run_job
 from agents.experiments.store import ChunkStore
 from agents.experiments.suites import suite_variants
 from agents.io import write_atomic, write_csv, write_json
+from radial_ibvs_gym.envs.config import MAX_HOLD_STEPS
 
 __all__ = [
     "Job",
@@ -52,6 +54,7 @@ def run_benchmark(
     store: Path | str | None = None,
     notify: Callable[[str], None] | None = None,
     trust_model: bool = False,
+    success_hold_steps: int = 1,
 ) -> list[JobResult]:
     """Run every policy on every suite variant, in chunks of at most :data:`CHUNK` episodes.
 
@@ -81,6 +84,10 @@ def run_benchmark(
     trust_model
         Load model directories that hold only a pickled stable-baselines3 ``model.zip``
         (:func:`agents.learned.load`'s ``trust_pickle``), in every worker.
+    success_hold_steps
+        How many steps in a row the pose must stay within the tolerances for a success
+        (the env's ``success_hold_steps``; 1, the default: the first step within them), for
+        every policy alike.
 
     Returns
     -------
@@ -101,9 +108,22 @@ def run_benchmark(
         raise ValueError(f"workers must be >= 1, got {workers!r}")
     if episodes is not None and episodes < 1:
         raise ValueError(f"episodes must be >= 1, got {episodes!r}")
+    if isinstance(success_hold_steps, bool) or not (
+        isinstance(success_hold_steps, int) and 1 <= success_hold_steps <= MAX_HOLD_STEPS
+    ):
+        raise ValueError(
+            f"success_hold_steps must be an integer in 1..{MAX_HOLD_STEPS}, "
+            f"got {success_hold_steps!r}"
+        )
+    variants = suite_variants(list(suites))
+    if success_hold_steps != 1:  # part of each variant: the chunks of either judging differ
+        variants = [
+            replace(v, overrides={**v.overrides, "success_hold_steps": success_hold_steps})
+            for v in variants
+        ]
     jobs = [
         Job(policy, variant, min(CHUNK, total - first), first, trust_model)
-        for variant in suite_variants(list(suites))
+        for variant in variants
         for policy in policies
         for total in [episodes or variant.episodes]
         for first in range(0, total, CHUNK)

@@ -13,7 +13,7 @@ from typing import Any
 import numpy as np
 
 from agents import make_policy
-from agents.experiments.suites import Variant
+from agents.experiments.suites import JUDGING, Variant
 from agents.runner import make_env, run_episode
 
 __all__ = ["CHUNK", "Job", "JobResult", "init_worker", "run_job"]
@@ -68,8 +68,9 @@ def run_job(job: Job) -> JobResult:
 
     start = time.perf_counter()
     policy = make_policy(job.policy, trust_pickle=job.trust_model)
-    # the suite chooses the task per episode: a learned model's training task is dropped
-    overrides = {**job.variant.overrides, "task": None}
+    # the suite chooses the task per episode (a learned model's training task is dropped) and
+    # judges every policy alike (a model's training env may have asked a hold)
+    overrides = {**JUDGING, **job.variant.overrides, "task": None}
     try:  # a learned model whose observations do not fit the variant's env is skipped
         env = make_env(policy, job.variant.scenario, overrides)
     except ValueError as error:

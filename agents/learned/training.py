@@ -491,7 +491,7 @@ def export_model(
     dest
         The model directory to write (e.g. ``agents/learned/models/ppo-residual``).
     best
-        Ship the best model of the held-out evaluations (with its normalisation statistics)
+        Ship the best model of the validation evaluations (with its normalisation statistics)
         rather than the last one.
     residual_gate
         For a residual model: the ``gate`` to deploy it with
@@ -523,7 +523,7 @@ def export_model(
         shutil.copy(zip_path, out / "model.zip")
     elif metadata.get("algo") == "ppo":  # e.g. a DAgger student: built from its weights
         _write_sb3_zip(folder, out / "model.zip")
-    metadata["shipped"] = "best model of the held-out evaluations" if use_best else "last model"
+    metadata["shipped"] = "best model of the validation evaluations" if use_best else "last model"
     if metadata.get("trained_by") == "dagger":
         metadata["shipped"] = (
             f"round {metadata['best_round']}: the best of the per-round evaluations"

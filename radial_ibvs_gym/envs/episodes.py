@@ -286,7 +286,7 @@ class EpisodeSource:
         return episode._replace(goal=goal)
 
     def image(
-        self, setup: EpisodeSetup, pose: np.ndarray, which: str, rng: np.random.Generator
+        self, setup: EpisodeSetup, pose: np.ndarray, which: str, rng: np.random.Generator | None
     ) -> tuple[np.ndarray, np.ndarray]:
         """Normalised image points ``(N, 2)`` (zeros where hidden) and visibility ``(N,)``.
 
@@ -303,7 +303,7 @@ class EpisodeSource:
         which
             ``"current"`` (the scenario's camera) or ``"goal"`` (its goal camera).
         rng
-            The env's generator (pixel noise).
+            The env's generator (pixel noise); ``None``: the noise-free image.
         """
         bounds = setup.radius_bounds[which]
         if bounds is not None:

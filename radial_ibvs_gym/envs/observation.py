@@ -10,6 +10,7 @@ Frames and units as everywhere (world frame, metres, radians).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -71,9 +72,13 @@ def radial_image(
         ``(..., N)`` visibility.
     """
     pose = np.asarray(pose, dtype=np.float64)
-    position = pose[..., :2].view(np.complex128)  # (..., 1): x + i y, no copy
-    turn = np.exp(-1j * pose[..., 2:3])  # the world -> camera rotation about the axis
-    w = (landmarks - position) * turn
+    if pose.ndim == 1:  # one robot: the pose as Python numbers (the same bits, fewer calls)
+        x, y, yaw = pose.tolist()
+        w = (landmarks - complex(x, y)) * complex(math.cos(yaw), -math.sin(yaw))
+    else:
+        position = pose[..., :2].view(np.complex128)  # (..., 1): x + i y, no copy
+        turn = np.exp(-1j * pose[..., 2:3])  # the world -> camera rotation about the axis
+        w = (landmarks - position) * turn
     rho = np.abs(w)
     visible = (rho > radius_lo) & (rho < radius_hi)
     w *= visible / np.maximum(rho, 1e-300)
@@ -81,7 +86,7 @@ def radial_image(
 
 
 def camera_image(
-    camera: CatadioptricCamera, p_cam: Array, rng: np.random.Generator
+    camera: CatadioptricCamera, p_cam: Array, rng: np.random.Generator | None
 ) -> tuple[Array, NDArray[np.bool_]]:
     """Normalised image points of a real camera, measured as the paper's set-up does.
 
@@ -96,7 +101,7 @@ def camera_image(
     p_cam
         ``(N, 3)`` landmarks in the camera frame, metres.
     rng
-        The env's generator (pixel noise).
+        The env's generator (pixel noise); ``None``: no noise.
 
     Returns
     -------

@@ -290,7 +290,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         )
         self._prev_errors = now
         info = self._info(result.pose, now, bool(success), result.collision, bool(lost))
-        info |= rules.reward_info({k: np.float64(v) for k, v in terms.items()})
+        info.update(rules.reward_info(terms, np.float64))
         if self.render_mode is not None:
             self._trail.append(result.pose[:2].copy())
         if self.render_mode == "human":

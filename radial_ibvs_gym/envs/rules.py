@@ -47,7 +47,7 @@ __all__ = [
 REWARD_TERMS = ("progress", "heading", "precision", "time", "collision", "lost", "success")
 
 
-def reward_info(terms: Mapping[str, Any]) -> dict[str, Any]:
+def reward_info(terms: Mapping[str, Any], convert: Any = None) -> dict[str, Any]:
     """Return the reward terms as ``info``'s flat keys, ``reward_<term>``.
 
     Flat scalar keys (not one nested dict) so that every ``info`` value is a number or an
@@ -58,13 +58,18 @@ def reward_info(terms: Mapping[str, Any]) -> dict[str, Any]:
     ----------
     terms
         Term name -> value (a float, or a ``(B,)`` array for a batch).
+    convert
+        Applied to each value (e.g. ``np.float64``: one env's numbers as numpy scalars), or
+        ``None``.
 
     Returns
     -------
     dict
         ``reward_<term>`` -> value, in the order of ``terms``.
     """
-    return {f"reward_{name}": value for name, value in terms.items()}
+    if convert is None:
+        return {f"reward_{name}": value for name, value in terms.items()}
+    return {f"reward_{name}": convert(value) for name, value in terms.items()}
 
 
 def reward_terms_in(info: Mapping[str, Any]) -> dict[str, Any]:
@@ -374,7 +379,7 @@ def info_values(
         (``is_success``, ``collision``, ``lost``) are Python bools, which Gymnasium's vector
         envs batch as bool arrays.
     """
-    batched = np.ndim(errors[0]) > 0
+    batched = isinstance(errors[0], np.ndarray) and errors[0].ndim > 0
     values: dict[str, Any] = {
         "robot_pose": np.array(pose, dtype=np.float64),
         "goal_pose": np.array(goal, dtype=np.float64),

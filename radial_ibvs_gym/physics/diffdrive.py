@@ -128,6 +128,9 @@ def limit_command(
         v, w = v / factor, w / factor
     else:
         v, w = min(max(v, -v_max), v_max), min(max(w, -w_max), w_max)
-    v0, w0 = np.asarray(previous, dtype=np.float64).tolist()
+    if isinstance(previous, np.ndarray) and previous.dtype == np.float64:
+        v0, w0 = previous.tolist()
+    else:
+        v0, w0 = np.asarray(previous, dtype=np.float64).tolist()
     dv, dw = dt * config.max_linear_accel, dt * config.max_angular_accel
     return np.array([min(max(v, v0 - dv), v0 + dv), min(max(w, w0 - dw), w0 + dw)])

@@ -25,7 +25,7 @@ from typing import Any
 import numpy as np
 
 from agents import make_policy
-from agents.experiments.suites import SUITES
+from agents.experiments.suites import JUDGING, SUITES
 from agents.runner import make_env
 
 
@@ -37,7 +37,7 @@ def _variant(name: str) -> Any:
 def settle(policy_name: str, variant: Any, episodes: int, after: int) -> dict[str, float]:
     """Run the episodes; return what the policy does after each success."""
     policy = make_policy(policy_name)
-    env = make_env(policy, variant.scenario, variant.overrides)
+    env = make_env(policy, variant.scenario, {**JUDGING, **variant.overrides})
     u: Any = env.unwrapped
     parked = 0
     final = []  # (position error m, heading error deg) after the extra steps
