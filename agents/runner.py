@@ -122,12 +122,16 @@ def _image(obs: Mapping[str, Any]) -> tuple[Any, Any, Any]:
 
     ``Parking-v0`` has them as ``points``, ``visible`` and ``goal_points``; the goal-conditioned
     ``ParkingGoal-v1`` as ``achieved_goal``, the last third of ``observation`` and
-    ``desired_goal``.
+    ``desired_goal`` (their first ``2M`` values: with ``goal_depths=True`` the depths follow).
     """
     if "points" in obs:
         return obs["points"], obs["visible"], obs["goal_points"]
-    n = len(obs["achieved_goal"]) // 2
-    return obs["achieved_goal"], obs["observation"][2 * n :], obs["desired_goal"]
+    n = len(obs["observation"]) // 3
+    return (
+        obs["achieved_goal"][: 2 * n],
+        obs["observation"][2 * n :],
+        obs["desired_goal"][: 2 * n],
+    )
 
 
 @dataclass
@@ -165,6 +169,9 @@ class EpisodeLog:
     terminated
         Whether the env terminated the episode (success, collision or lost landmarks) rather
         than truncated it (time limit) or ``max_steps`` stopped it.
+    success_hold_steps
+        How the env judged success: steps in a row within the tolerances (1: the first step
+        within them).
     """
 
     policy: str
@@ -183,6 +190,7 @@ class EpisodeLog:
     extra: dict[str, Any] = field(default_factory=dict)
     batch: int = 1
     terminated: bool = False
+    success_hold_steps: int = 1
     frames: list[NDArray[np.uint8]] = field(default_factory=list, repr=False)
 
     @property
@@ -259,6 +267,7 @@ class EpisodeLog:
             "path_length_m": self.path_length_m,
             "collision": bool(self.info.get("collision", False)),
             "end": self.end,
+            "success_hold_steps": self.success_hold_steps,
             "success_by_tolerance": {
                 name: self.success_at(*tol) for name, tol in TOLERANCES.items()
             },
@@ -358,4 +367,5 @@ def run_episode(
         compute_s=compute,
         frames=frames,
         terminated=terminated,
+        success_hold_steps=int(getattr(getattr(base, "config", None), "success_hold_steps", 1)),
     )

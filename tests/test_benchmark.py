@@ -229,13 +229,25 @@ def test_each_suites_time_is_summed_from_its_jobs_and_resumed_chunks_are_counted
     results = [
         JobResult(Job("ibvs", paper, 2), [{}, {}], [], wall_s=3.0),
         JobResult(Job("pbvs", paper, 2), [{}, {}], [], wall_s=1.0),
-        JobResult(Job("ibvs", held, 3), [{}, {}, {}], [], wall_s=None),  # loaded, not run
+        JobResult(Job("ibvs", held, 3), [{}, {}, {}], [], resumed=1),  # loaded, not run
     ]
     timings = {t["suite"]: t for t in suite_timings(results)}
     assert timings["paper"]["seconds"] == 4.0 and timings["paper"]["episodes"] == 4
     assert timings["held-out"]["resumed"] == 1 and timings["held-out"]["seconds"] == 0.0
     table = timings_table(results, workers=2)
-    assert "| paper | 4 | 4 | 100% | 2 s |" in table and "held-out (1 resumed)" in table
+    assert "| paper | 4 | 4 | 100% | 2 s |" in table and "held-out (1 chunks resumed)" in table
+    # a job of two chunks, one loaded and one run now, keeps the run one's time
+    from agents.experiments.benchmark import _merge
+
+    chunks = [
+        JobResult(Job("ibvs", held, 2, 0), [{}, {}], [], resumed=1),
+        JobResult(Job("ibvs", held, 2, 2), [{}, {}], [], wall_s=5.0),
+    ]
+    (merged,) = _merge(chunks)
+    assert (merged.wall_s, merged.resumed, len(merged.rows)) == (5.0, 1, 4)
+    # a skipped job took time too, and resumed nothing
+    (timing,) = suite_timings([JobResult(Job("x", held, 2), [], [], "no fit", wall_s=0.5)])
+    assert (timing["resumed"], timing["seconds"]) == (0, 0.5)
 
 
 def test_every_policy_is_judged_alike_whatever_its_training_env_asked(monkeypatch):

@@ -87,3 +87,23 @@ def test_help_lists_every_policy_and_the_extra_each_needs(
         ), name
     if command == "benchmark":
         assert all(suite in listed for suite in SUITES)
+
+
+def test_evaluate_judges_as_the_benchmark_whatever_hold_a_model_trained_with(
+    tmp_path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """``ppo-pose-layer`` trained asking a 10-step hold; ``evaluate`` judges at 1 unless told."""
+    import json
+
+    from agents.cli import main
+    from agents.learned import load
+
+    assert load("ppo-pose-layer").env_kwargs["success_hold_steps"] == 10
+    rows = tmp_path / "rows.json"
+    base = ["evaluate", "--policy", "ppo-pose-layer", "--scenario", "random", "--episodes", "2"]
+    assert main([*base, "--json", str(rows)]) == 0
+    assert {r["success_hold_steps"] for r in json.loads(rows.read_text())} == {1}
+    assert "held" not in capsys.readouterr().out
+    assert main([*base, "--json", str(rows), "--env-kwarg", "success_hold_steps=10"]) == 0
+    assert {r["success_hold_steps"] for r in json.loads(rows.read_text())} == {10}
+    assert "success held 10 steps" in capsys.readouterr().out

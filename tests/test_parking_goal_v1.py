@@ -162,10 +162,12 @@ def test_goal_depths_add_each_goals_depths_and_the_reward_reads_the_points():
     assert env.observation_space.contains(obs)
     np.testing.assert_array_equal(obs["desired_goal"][:32], base["desired_goal"])
     np.testing.assert_array_equal(obs["observation"], base["observation"])
-    # the depths of a goal image taken at the goal are the goal depths d*
+    # the depths of a goal image taken at the goal are the goal depths d* of what it sees
     setup = u._setup
-    at_goal = depth_observation(u.config, setup.landmarks_c, setup.episode.goal)
-    np.testing.assert_allclose(at_goal, setup.goal_depths, rtol=1e-12)
+    seen = setup.goal_visible
+    at_goal = depth_observation(u.config, setup.landmarks_c, setup.episode.goal, seen)
+    np.testing.assert_allclose(at_goal[seen], setup.goal_depths[seen], rtol=1e-12)
+    np.testing.assert_array_equal(at_goal[~seen], 0.0)
     np.testing.assert_allclose(obs["desired_goal"][32:40], setup.goal_depths, rtol=1e-6)
     for _ in range(5):
         action = np.array([0.5, 0.2], dtype=np.float32)
@@ -175,6 +177,9 @@ def test_goal_depths_add_each_goals_depths_and_the_reward_reads_the_points():
         assert reward == pytest.approx(
             float(u.compute_reward(obs["achieved_goal"], obs["desired_goal"], info))
         )
+        assert u.image_distance(obs["achieved_goal"], obs["desired_goal"]) == pytest.approx(
+            u.image_distance(base["achieved_goal"], base["desired_goal"])
+        )
     venv = gym.make_vec(
         "RadialIBVS/ParkingGoal-v1", num_envs=2, vectorization_mode="vector_entry_point", **kw
     )
@@ -182,6 +187,55 @@ def test_goal_depths_add_each_goals_depths_and_the_reward_reads_the_points():
     single, _ = env.reset(seed=3)
     for key in single:
         np.testing.assert_array_equal(batch[key][0], single[key])
+
+
+class _Turn:
+    """Drive on a curve, whatever the observation: one robot's or a batch's."""
+
+    batch_mode = "batch"
+
+    def predict(self, obs, state=None, episode_start=None, deterministic=True):
+        n = len(obs["observation"]) if obs["observation"].ndim == 2 else None
+        action = np.array([0.6, 0.3], dtype=np.float32)
+        return (action if n is None else np.tile(action, (n, 1))), state
+
+
+def test_achieved_depths_are_those_of_the_landmarks_seen():
+    """No range to a landmark the camera does not see (0), a positive one to those it sees."""
+    env = gym.make("RadialIBVS/ParkingGoal-v1", **KW, **HARSH, goal_depths=True)
+    m = env.unwrapped.config.observed_landmarks
+    env.action_space.seed(0)
+    obs, _ = env.reset(seed=0)
+    hidden = 0
+    for _ in range(200):
+        obs, _, terminated, truncated, _ = env.step(env.action_space.sample())
+        visible = obs["observation"][2 * m :] > 0.5
+        depths = obs["achieved_goal"][2 * m :]
+        assert (depths[visible] > 0).all() and (depths[~visible] == 0).all()
+        hidden += int((~visible).sum())
+        if terminated or truncated:
+            obs, _ = env.reset()
+    assert hidden > 0  # the harsh rooms hide landmarks
+
+
+def test_the_runners_read_goals_with_depths():
+    """``run_episode`` and the batched runner take goals of ``3M`` values (points, then depths)."""
+    from agents.experiments.batched import run_batch
+    from agents.runner import run_episode
+
+    kw = {**KW, "max_landmarks": 16}
+    logs = {}
+    for depths in (False, True):
+        env = gym.make("RadialIBVS/ParkingGoal-v1", **kw, goal_depths=depths)
+        logs[depths] = run_episode(_Turn(), env, seed=2, max_steps=40)
+    np.testing.assert_array_equal(logs[True].points, logs[False].points)
+    np.testing.assert_array_equal(logs[True].goal_points, logs[False].goal_points)
+    assert logs[True].points.shape == (41, 16, 2)
+    assert logs[True].visible[0].any()
+    env_id = "RadialIBVS/ParkingGoal-v1"
+    batched = run_batch(_Turn(), [2, 3], "random", {**kw, "goal_depths": True}, env_id=env_id)
+    np.testing.assert_array_equal(batched[0].points[:41], logs[True].points)
+    np.testing.assert_array_equal(batched[0].goal_points, logs[True].goal_points)
 
 
 def test_the_goal_pose_extractor_solves_the_students_pose_from_the_goals():

@@ -84,6 +84,17 @@ def test_bad_rows_are_named(tmp_path: Path):
         load_rows([tmp_path / "missing.json"])
 
 
+def test_rows_judged_differently_are_not_merged(tmp_path: Path, capsys):
+    plain, held = tmp_path / "plain.json", tmp_path / "held.json"
+    plain.write_text(json.dumps(_rows()))  # rows without the key were judged at 1 step
+    held.write_text(json.dumps([{**r, "success_hold_steps": 10} for r in _rows()]))
+    with pytest.raises(ValueError, match=r"success_hold_steps 1 in .*plain\.json, 10 in .*held"):
+        load_rows([plain, held])
+    assert len(load_rows([held, held])) == 2 * len(_rows())
+    assert main(["report", str(held)]) == 0
+    assert "held there 10 steps in a row" in capsys.readouterr().out
+
+
 def test_the_command_writes_the_report_and_curves(tmp_path: Path, capsys):
     rows = tmp_path / "episodes.json"
     rows.write_text(json.dumps(_rows()))

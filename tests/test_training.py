@@ -67,6 +67,23 @@ def test_training_writes_a_loadable_model_directory(trained: Path) -> None:
     np.testing.assert_allclose(actions, [action, action], atol=1e-6)
 
 
+def test_training_evaluations_count_success_at_the_three_tolerances(trained: Path) -> None:
+    from agents.learned.tolerance_eval import read_tolerance_curve, success_within
+
+    curve = json.loads((trained / "metadata.json").read_text())["learning_curve"]
+    rates = read_tolerance_curve(trained / "eval" / "tolerances.npz")
+    assert [row["timesteps"] for row in curve] == sorted(rates)
+    for row in curve:
+        mine = rates[row["timesteps"]]
+        assert mine["2cm/2deg"] == row["success_rate"]  # the env's own success, as SB3 counts
+        assert row["success_rate"] <= row["success_10cm/5deg"] <= row["success_30cm/15deg"]
+    near = {"is_success": False, "collision": False, "position_error_m": 0.05,
+            "heading_error_deg": 4.0}  # fmt: skip
+    assert success_within(near, 0.10, 5.0) and not success_within(near, 0.02, 2.0)
+    assert not success_within({**near, "collision": True}, 0.30, 15.0)
+    assert success_within({**near, "is_success": True, "collision": True}, 0.02, 2.0)
+
+
 def test_learned_policy_matches_sb3_with_vecnormalize(trained: Path) -> None:
     # our plain-array normalisation must equal VecNormalize's, so the model sees the same input
     from stable_baselines3 import PPO

@@ -87,7 +87,13 @@ def add_parser(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``radial-ibvs report``; returns the exit code."""
-    from agents.experiments.report import dagger_curves, load_rows, results_table, seeds_table
+    from agents.experiments.report import (
+        dagger_curves,
+        hold_steps,
+        load_rows,
+        results_table,
+        seeds_table,
+    )
     from agents.io import write_atomic
 
     renames = _pairs(args.rename, "--rename")
@@ -106,11 +112,14 @@ def run(args: argparse.Namespace) -> int:
         kept = [r for r in renamed if not args.suites or r["suite"] in args.suites]
         print(f"saved {plot_success(success_summaries(kept, args.policies), args.heatmap)}")
     sources = ", ".join(str(p) for p in args.rows)
+    hold = hold_steps(rows)
+    held = f", held there {hold} steps in a row" if hold > 1 else ""
     parts = [
         "# Benchmark report",
         "",
         f"From {len(rows)} episodes ({sources}). Success: the final pose within 2 cm and "
-        "2 deg of the goal; in brackets, the 95 % Wilson interval (cells of 20 episodes or more).",
+        f"2 deg of the goal{held}; in brackets, the 95 % Wilson interval (cells of 20 "
+        "episodes or more).",
         "",
         results_table(rows, args.suites, args.policies, renames),
     ]

@@ -103,8 +103,12 @@ def _row_of(values: Mapping[str, Any], i: int) -> dict[str, Any]:
 def _image(obs: Mapping[str, Any], i: int) -> tuple[Any, Any, Any]:
     if "points" in obs:
         return obs["points"][i], obs["visible"][i], obs["goal_points"][i]
-    n = obs["achieved_goal"].shape[1] // 2
-    return obs["achieved_goal"][i], obs["observation"][i, 2 * n :], obs["desired_goal"][i]
+    n = obs["observation"].shape[1] // 3  # goals with depths carry them after the 2M points
+    return (
+        obs["achieved_goal"][i, : 2 * n],
+        obs["observation"][i, 2 * n :],
+        obs["desired_goal"][i, : 2 * n],
+    )
 
 
 def run_batch(
@@ -257,6 +261,7 @@ def _run(
                 compute_s=float(compute[i]),
                 terminated=bool(terminated_at[i]),
                 batch=n if exact else 1,
+                success_hold_steps=int(config.success_hold_steps),
             )
         )
     return logs

@@ -163,7 +163,8 @@ def _merge(chunks: Sequence[JobResult]) -> list[JobResult]:
         m = merged[key]
         m.rows.extend(r.rows)
         m.paths.extend(r.paths)
-        m.wall_s = None if m.wall_s is None or r.wall_s is None else m.wall_s + r.wall_s
+        m.wall_s = (m.wall_s or 0.0) + (r.wall_s or 0.0)  # the chunks run now
+        m.resumed += r.resumed
         m.job = Job(r.job.policy, r.job.variant, m.job.episodes + r.job.episodes)
     return list(merged.values())  # the jobs' order: first chunks come first, stably sorted
 
@@ -322,8 +323,8 @@ def suite_timings(results: Sequence[JobResult]) -> list[dict[str, Any]]:
     """Return the worker-seconds each suite's jobs took, per suite and in all.
 
     A job's time is measured in its worker; with several workers the wall clock is about the
-    total divided by the workers. Jobs loaded from saved chunks (a resumed run) have no time
-    and are counted apart (``resumed``).
+    total divided by the workers. Chunks loaded from saved ones (a resumed run) have no time
+    and are counted apart (``resumed``); a skipped job counts the time it took to say so.
     """
     suites: dict[str, dict[str, Any]] = {}
     for r in results:
@@ -332,9 +333,8 @@ def suite_timings(results: Sequence[JobResult]) -> list[dict[str, Any]]:
                                   "jobs": 0, "resumed": 0},
         )  # fmt: skip
         entry["episodes"] += len(r.rows)
-        if r.wall_s is None:
-            entry["resumed"] += 1
-        else:
+        entry["resumed"] += r.resumed
+        if r.wall_s is not None:
             entry["seconds"] += r.wall_s
             entry["jobs"] += 1
     return sorted(suites.values(), key=lambda e: -e["seconds"])
@@ -350,7 +350,7 @@ def timings_table(results: Sequence[JobResult], workers: int) -> str:
     ]
     for r in rows:
         share = r["seconds"] / total if total else 0.0
-        resumed = f" ({r['resumed']} resumed)" if r["resumed"] else ""
+        resumed = f" ({r['resumed']} chunks resumed)" if r["resumed"] else ""
         lines.append(
             f"| {r['suite']}{resumed} | {r['episodes']} | {r['seconds']:.0f} | {share:.0%} "
             f"| {r['seconds'] / max(workers, 1):.0f} s |"

@@ -47,6 +47,8 @@ class JobResult:
     skipped: str | None = None
     #: seconds the job took in its worker (``None``: loaded from a saved chunk, not run now)
     wall_s: float | None = None
+    #: chunks of this result loaded from saved chunks (a resumed run), not timed now
+    resumed: int = 0
 
 
 def init_worker() -> None:
@@ -74,7 +76,7 @@ def run_job(job: Job) -> JobResult:
     try:  # a learned model whose observations do not fit the variant's env is skipped
         env = make_env(policy, job.variant.scenario, overrides)
     except ValueError as error:
-        return JobResult(job, [], [], skipped=str(error))
+        return JobResult(job, [], [], skipped=str(error), wall_s=time.perf_counter() - start)
     base: Any = env.unwrapped
     n_tasks = base.scenario.n_tasks
     ks = list(range(job.first, job.first + job.episodes))

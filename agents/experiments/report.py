@@ -23,6 +23,7 @@ from agents.experiments.evaluate import wilson_interval
 __all__ = [
     "TOLERANCES",
     "dagger_curves",
+    "hold_steps",
     "load_rows",
     "read_rounds",
     "replace_block",
@@ -45,10 +46,12 @@ def load_rows(paths: Sequence[Path | str]) -> list[dict[str, Any]]:
     Raises
     ------
     ValueError
-        For a missing file, one that is not a JSON list of objects, or a row without the keys
-        a report needs; the message names the file.
+        For a missing file, one that is not a JSON list of objects, a row without the keys a
+        report needs (the message names the file), or rows judged differently (a
+        ``success_hold_steps`` that differs: such rows are reported apart).
     """
     rows: list[dict[str, Any]] = []
+    holds: dict[int, Path] = {}
     for path in map(Path, paths):
         if not path.is_file():
             raise ValueError(f"{path}: no such file (an episodes.json of radial-ibvs benchmark)")
@@ -62,8 +65,22 @@ def load_rows(paths: Sequence[Path | str]) -> list[dict[str, Any]]:
             missing = [key for key in ("policy", "suite", "variant", "success") if key not in row]
             if missing:
                 raise ValueError(f"{path}: row {k} has no {missing}")
+            hold = row.get("success_hold_steps", 1)
+            if hold not in holds:
+                holds[hold] = path
+            if len(holds) > 1:
+                (a, first), (b, second) = list(holds.items())[:2]
+                raise ValueError(
+                    f"rows judged differently: success_hold_steps {a} in {first}, {b} in "
+                    f"{second} (row {k}); report each judging on its own"
+                )
         rows.extend(data)
     return rows
+
+
+def hold_steps(rows: Sequence[Mapping[str, Any]]) -> int:
+    """Return the rows' ``success_hold_steps`` (1 where rows predate the key)."""
+    return max((int(r.get("success_hold_steps", 1)) for r in rows), default=1)
 
 
 def _policies(rows: Sequence[Mapping[str, Any]], wanted: Sequence[str] | None) -> list[str]:

@@ -156,7 +156,7 @@ class ChunkStore:
             if data.get("digest") != _content_digest(path.stem, content):
                 raise ValueError("its digest does not match its content")
             paths = [(p[0], np.asarray(p[1], dtype=np.float64)) for p in data["paths"]]
-            result = JobResult(job, list(data["rows"]), paths, data["skipped"])
+            result = JobResult(job, list(data["rows"]), paths, data["skipped"], resumed=1)
             problem = _check(result)
         except (OSError, ValueError, KeyError, TypeError, IndexError, AttributeError) as error:
             problem = f"unreadable: {type(error).__name__}: {str(error)[:120]}"

@@ -24,7 +24,7 @@ from pathlib import Path
 from typing import Any
 
 import numpy as np
-from stable_baselines3.common.callbacks import BaseCallback, CheckpointCallback, EvalCallback
+from stable_baselines3.common.callbacks import BaseCallback, CheckpointCallback
 from stable_baselines3.common.env_util import make_vec_env as sb3_make_vec_env
 from stable_baselines3.common.logger import configure
 from stable_baselines3.common.vec_env import VecNormalize
@@ -46,6 +46,7 @@ from agents.learned.model_files import (
 )
 from agents.learned.provenance import jsonable, provenance, versions
 from agents.learned.residual import ResidualVecEnv
+from agents.learned.tolerance_eval import ToleranceEvalCallback, read_tolerance_curve
 from agents.learned.zoo_config import TRAIN_EXTRACTORS, TrainConfig
 from agents.plotting import save_figure
 from agents.untrusted import check_archive, read_json
@@ -361,7 +362,7 @@ def train(
     formats = ["csv"] + (["tensorboard"] if importlib.util.find_spec("tensorboard") else [])
     model.set_logger(configure(str(out / "logs"), formats))
     best_dir = out / "best"
-    evaluation = EvalCallback(
+    evaluation = ToleranceEvalCallback(
         eval_env,
         n_eval_episodes=config.eval_episodes,
         eval_freq=max(config.eval_freq // config.n_envs, 1),
@@ -440,17 +441,25 @@ def _write_sb3_zip(folder: Path, path: Path) -> None:
 
 
 def _learning_curve(path: Path) -> list[dict[str, float]]:
-    """Read the evaluations over training: timesteps, mean return, success rate."""
+    """Read the evaluations over training: timesteps, mean return, success rate.
+
+    With ``tolerances.npz`` beside ``path`` (:class:`ToleranceEvalCallback`), each row also
+    has ``success_10cm/5deg`` and ``success_30cm/15deg``.
+    """
     if not path.is_file():
         return []
-    with np.load(path) as data:
+    with np.load(path, allow_pickle=False) as data:
         steps, results = data["timesteps"], data["results"]
         successes = data["successes"] if "successes" in data.files else None
+    looser = read_tolerance_curve(path.parent / "tolerances.npz")
     curve = []
     for k, t in enumerate(steps):
         row = {"timesteps": int(t), "mean_return": float(np.mean(results[k]))}
         if successes is not None and len(successes[k]):
             row["success_rate"] = float(np.mean(successes[k]))
+        for name, rate in looser.get(int(t), {}).items():
+            if name != "2cm/2deg":  # the env's own: success_rate
+                row[f"success_{name}"] = rate
         curve.append(row)
     return curve
 
@@ -465,9 +474,16 @@ def _plot_learning_curve(curve: list[dict[str, float]], path: Path, title: str) 
     ax.set_ylabel("mean return (held-out seeds)")
     if "success_rate" in curve[0]:
         twin = ax.twinx()
-        twin.plot(t, [row.get("success_rate", np.nan) for row in curve], "s-", color="C3")
-        twin.set_ylabel("success rate", color="C3")
+        keys = [("success_rate", "2 cm / 2 deg", "s-")] + [
+            (f"success_{name}", name.replace("cm/", " cm / ").replace("deg", " deg"), style)
+            for name, style in (("10cm/5deg", "^--"), ("30cm/15deg", "v:"))
+            if f"success_{name}" in curve[0]
+        ]
+        for (key, label, style), color in zip(keys, ("C3", "C1", "C2"), strict=False):
+            twin.plot(t, [row.get(key, np.nan) for row in curve], style, color=color, label=label)
+        twin.set_ylabel("success rate (held-out seeds)")
         twin.set_ylim(-0.05, 1.05)
+        twin.legend(loc="lower right", fontsize=8, title="success within", title_fontsize=8)
     ax.set_title(title)
     ax.grid(alpha=0.3)
     fig.tight_layout()

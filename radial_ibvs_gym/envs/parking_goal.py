@@ -64,16 +64,21 @@ def goal_observation_space(config: ParkingConfig) -> spaces.Dict:
 
 
 def depth_observation(
-    config: ParkingConfig, landmarks: NDArray[np.complex128], poses: NDArray[np.float64]
+    config: ParkingConfig,
+    landmarks: NDArray[np.complex128],
+    poses: NDArray[np.float64],
+    visible: NDArray[np.bool_],
 ) -> NDArray[np.float64]:
     """Return the depths that would come with an image taken at ``poses`` ``(..., 3)``, metres.
 
-    The landmarks' horizontal distances ``(..., N)`` times the scenario's ``depth_scale``, as
-    the goal depths ``d*`` are given: what a goal image taken here would come with, so that
+    The horizontal distances ``(..., N)`` of the landmarks ``visible`` ``(..., N)`` there, times
+    the scenario's ``depth_scale``, as the goal depths ``d*`` are given; 0 for the hidden ones
+    (whose image points are 0 too). What a goal image taken here would come with, so that
     HER's relabelled goals carry depths as the true goals do.
     """
     position = poses[..., 0:1] + 1j * poses[..., 1:2]
-    return config.scenario.config.depth_scale * np.abs(landmarks - position)
+    depths = config.scenario.config.depth_scale * np.abs(landmarks - position)
+    return np.where(visible, depths, 0.0)
 
 
 class GoalReward:
@@ -95,10 +100,7 @@ class GoalReward:
 
         With ``goal_depths``, only the goals' image points count (their first ``2M`` values).
         """
-        if self.config.goal_depths:
-            points = 2 * self.config.observed_landmarks
-            achieved_goal = np.asarray(achieved_goal)[..., :points]
-            desired_goal = np.asarray(desired_goal)[..., :points]
+        achieved_goal, desired_goal = self._points_of(achieved_goal, desired_goal)
         return rules.goal_reward_terms(
             achieved_goal,
             desired_goal,
@@ -130,6 +132,20 @@ class GoalReward:
         terms = self.reward_terms_of(achieved_goal, desired_goal, info)
         return np.asarray(sum(terms.values()))
 
+    def image_distance(self, achieved_goal: np.ndarray, desired_goal: np.ndarray) -> np.ndarray:
+        """``D`` of the goals ``(..., 2M)`` or, with depths, ``(..., 3M)`` (their points only).
+
+        :func:`~radial_ibvs_gym.envs.rules.image_distance`.
+        """
+        return rules.image_distance(*self._points_of(achieved_goal, desired_goal))
+
+    def _points_of(self, *goals: Any) -> tuple[np.ndarray, ...]:
+        """Return the goals' image points (with ``goal_depths``, their first ``2M`` values)."""
+        if not self.config.goal_depths:
+            return tuple(np.asarray(g) for g in goals)
+        points = 2 * self.config.observed_landmarks
+        return tuple(np.asarray(g)[..., :points] for g in goals)
+
 
 class ParkingGoalEnv(GoalReward, ParkingEnv):
     """``RadialIBVS/ParkingGoal-v1``: the goal-conditioned task, all reward in ``compute_reward``.
@@ -147,10 +163,13 @@ class ParkingGoalEnv(GoalReward, ParkingEnv):
 
     With ``goal_depths=True`` each goal also carries its depths, ``(3M,)``: ``desired_goal``
     the goal depths ``d*`` after the goal image, ``achieved_goal`` the depths a goal image
-    taken at the current pose would come with (the landmarks' horizontal distances, times the
-    scenario's ``depth_scale``), so a relabelled goal has depths as a true one does; the
-    reward reads the image points only. What a policy that solves the goal's pose from the
-    bearings needs (``agents.learned.extractors.GoalPoseExtractor``).
+    taken at the current pose would come with (the visible landmarks' horizontal distances,
+    times the scenario's ``depth_scale``; 0 for the hidden ones), so a relabelled goal has
+    depths as a true one does; the reward reads the image points only. What a policy that
+    solves the goal's pose from the bearings needs
+    (``agents.learned.extractors.GoalPoseExtractor``, which reads only the desired goal's
+    depths). Those current depths are ranges a camera alone does not measure: a policy that
+    reads all of ``achieved_goal`` (SB3's ``MultiInputPolicy`` does) is given them.
 
     **The step reward equals** ``compute_reward(achieved_goal, desired_goal, info)``, the
     ``GoalEnv`` rule that HER relies on (:func:`~radial_ibvs_gym.envs.rules.goal_reward_terms`).
@@ -195,10 +214,6 @@ class ParkingGoalEnv(GoalReward, ParkingEnv):
         )
         self.observation_space = goal_observation_space(self.config)  # type: ignore[assignment]
 
-    def image_distance(self, achieved_goal: np.ndarray, desired_goal: np.ndarray) -> np.ndarray:
-        """``D`` of the goals ``(..., 2M)``: :func:`~radial_ibvs_gym.envs.rules.image_distance`."""
-        return rules.image_distance(achieved_goal, desired_goal)
-
     def step(
         self, action: np.ndarray
     ) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
@@ -224,7 +239,9 @@ class ParkingGoalEnv(GoalReward, ParkingEnv):
         }
         if self.config.goal_depths:
             pose = self.world.pose if self.world is not None else self._setup.episode.start
-            obs["depths"] = depth_observation(self.config, self._setup.landmarks_c, pose)
+            obs["depths"] = depth_observation(
+                self.config, self._setup.landmarks_c, pose, self._visible
+            )
             obs["goal_depths"] = self._setup.goal_depths
         if self.slots is not None:
             obs = self.slots.pad(obs, self._setup.slot_order)
@@ -273,7 +290,7 @@ class ParkingGoalVectorEnv(GoalReward, ParkingVectorEnv):
         t = self.config
         if t.goal_depths:
             landmarks, poses = self._landmarks_c[idx], self.fleet.poses[idx]
-            obs["depths"] = depth_observation(t, landmarks, poses)
+            obs["depths"] = depth_observation(t, landmarks, poses, self._visible[idx])
             obs["goal_depths"] = self._goal_depths[idx]
         if t.slots is not None:
             obs = t.slots.pad(obs, self._slot_orders[idx] if t.slot_order == "random" else None)
