@@ -24,6 +24,7 @@ import gymnasium as gym
 import numpy as np
 from numpy.typing import NDArray
 
+from radial_ibvs_gym.envs.rules import SUCCESS_TOLERANCES
 from radial_ibvs_gym.registration import check_env_id
 
 __all__ = [
@@ -42,11 +43,7 @@ RUN_FIELDS = ("compute_us_per_step", "compute_batch")
 
 #: the success tolerances every row reports (position in metres, heading in degrees): the
 #: env's own (2 cm / 2 deg, the ``success`` column) and two looser ones
-TOLERANCES: dict[str, tuple[float, float]] = {
-    "2cm/2deg": (0.02, 2.0),
-    "10cm/5deg": (0.10, 5.0),
-    "30cm/15deg": (0.30, 15.0),
-}
+TOLERANCES = SUCCESS_TOLERANCES
 
 #: the env every command runs unless told otherwise
 DEFAULT_ENV_ID = "RadialIBVS/Parking-v0"

@@ -532,3 +532,22 @@ def test_a_goal_image_averaged_over_frames_is_closer_to_the_true_one() -> None:
     for bad in (0, 1001, 2.5, True):
         with pytest.raises(ValueError, match="goal_image_frames"):
             gym.make("RadialIBVS/Parking-v0", goal_image_frames=bad, **kwargs)
+
+
+def test_the_goal_frames_projected_together_are_the_frames_taken_one_by_one() -> None:
+    from radial_ibvs_gym.camera import CatadioptricCamera, Imperfections
+    from radial_ibvs_gym.camera.presets import MIRROR_A, paper_intrinsics
+    from radial_ibvs_gym.envs.observation import camera_image, camera_images
+
+    noisy = Imperfections(pixel_noise_std=1.0, principal_point_offset=(2.0, -1.0))
+    camera = CatadioptricCamera(MIRROR_A, paper_intrinsics(), camera_z=-0.026, imperfections=noisy)
+    rng = np.random.default_rng(0)
+    p_cam = np.stack([rng.uniform(-4, 4, 12), rng.uniform(-4, 4, 12), rng.uniform(0, 2, 12)], -1)
+    one, together = np.random.default_rng(5), np.random.default_rng(5)
+    frames = [camera_image(camera, p_cam, one) for _ in range(30)]
+    points, visible = camera_images(
+        [camera] * 30, np.broadcast_to(p_cam, (30, 12, 3)), [together] * 30
+    )
+    np.testing.assert_array_equal(points, np.stack([x for x, _ in frames]))
+    np.testing.assert_array_equal(visible, np.stack([v for _, v in frames]))
+    assert visible.any() and not visible.all()

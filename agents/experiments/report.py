@@ -19,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from agents.experiments.evaluate import wilson_interval
+from radial_ibvs_gym.envs.rules import SUCCESS_TOLERANCES
 
 __all__ = [
     "TOLERANCES",
@@ -34,7 +35,7 @@ __all__ = [
 ]
 
 #: the tolerances of ``success_by_tolerance`` (position / heading)
-TOLERANCES = ("2cm/2deg", "10cm/5deg", "30cm/15deg")
+TOLERANCES = tuple(SUCCESS_TOLERANCES)
 
 #: the fewest episodes for which a cell shows its 95 % interval
 MIN_EPISODES_FOR_INTERVAL = 20

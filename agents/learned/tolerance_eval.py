@@ -18,7 +18,7 @@ import numpy as np
 from stable_baselines3.common.callbacks import EvalCallback
 
 from agents.io import write_atomic
-from agents.runner import TOLERANCES
+from radial_ibvs_gym.envs.rules import SUCCESS_TOLERANCES as TOLERANCES
 
 __all__ = ["ToleranceEvalCallback", "read_tolerance_curve", "success_within"]
 
@@ -40,7 +40,9 @@ def success_within(info: dict[str, Any], position_m: float, heading_deg: float) 
 
 
 class ToleranceEvalCallback(EvalCallback):
-    """``EvalCallback`` that also records success at each of :data:`agents.runner.TOLERANCES`.
+    """``EvalCallback`` that also records success at each of the reported tolerances.
+
+    The tolerances: :data:`radial_ibvs_gym.envs.rules.SUCCESS_TOLERANCES`.
 
     Takes ``EvalCallback``'s arguments; ``log_path`` is needed (the rates are written there).
     """

@@ -31,15 +31,8 @@ def shares_reflection(cameras: Sequence[CatadioptricCamera]) -> bool:
     """
     if not cameras:
         return True
-    first = cameras[0]
-    return all(
-        (c.mirror is first.mirror or c.mirror == first.mirror)
-        and c.camera_z == first.camera_z
-        and c.lens_radius == first.lens_radius
-        and (c.intrinsics is first.intrinsics or c.intrinsics == first.intrinsics)
-        and not c.imperfections.geometric
-        for c in cameras
-    )
+    key = cameras[0]._reflection_key
+    return key is not None and all(c._reflection_key == key for c in cameras)
 
 
 def forward_batch(

@@ -1,7 +1,8 @@
 """Catadioptric camera: a pinhole on the axis of a quadric mirror, central or non-central.
 
 Exact forward projection (3D point -> pixel) solves the law of reflection in the plane that
-holds the mirror axis and the point, with a vectorised bracketed root-find; backward projection
+holds the mirror axis and the point (:mod:`radial_ibvs_gym.camera.meridian`, a vectorised
+bracketed root-find); backward projection
 (pixel -> reflected world ray) intersects the pixel's ray with the mirror. Imperfections (a
 principal-point offset, a focal-ratio error, pixel noise, a tilt or a sideways offset of the
 camera from the mirror axis) are parameters, so robustness studies use the same model.
@@ -10,31 +11,30 @@ Frames (see ``docs/conventions.md``): points are given in the *camera frame*, wh
 nominal pinhole on the mirror axis and whose z axis is the mirror axis, pointing up at the
 mirror. The mirror frame is the camera frame shifted by ``camera_z`` along z.
 
-About 600 lines, one camera model: the forward projection's root-find, the backward
-projection, visibility and the imperfections all read the same mirror geometry, and each
-step cites the equation it implements.
+About 570 lines, one camera model: the forward and backward projections, visibility and the
+imperfections all read the same mirror geometry, and each step cites the equation it
+implements.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cached_property
 from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from radial_ibvs_gym._validation import as_float_array, check_finite, check_last_dim
+from radial_ibvs_gym.camera.meridian import MeridianSolver
 from radial_ibvs_gym.camera.mirrors import QuadricMirror
 from radial_ibvs_gym.camera.pinhole import Intrinsics
 from radial_ibvs_gym.geometry import rot_x, rot_y
 
 __all__ = ["CatadioptricCamera", "Imperfections", "Projection"]
 
-#: Samples of the bracketing grid along the mirror profile, then bisection and regula-falsi
-#: iterations of the root-find.
+#: Samples of the grid that brackets the blind zone's edge.
 _GRID = 96
-_BISECTIONS = 24
-_SECANTS = 3
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -73,12 +73,12 @@ class Imperfections:
         if not (np.isfinite(self.pixel_noise_std) and self.pixel_noise_std >= 0.0):
             raise ValueError(f"pixel_noise_std must be >= 0, got {self.pixel_noise_std!r}")
 
-    @property
+    @cached_property  # read at every step of a vector env, for each robot: computed once
     def any(self) -> bool:
         """True when any imperfection is set (the camera differs from its nominal model)."""
         return self != _NOMINAL
 
-    @property
+    @cached_property
     def geometric(self) -> bool:
         """True when the camera is tilted or off the mirror axis (the radial model breaks)."""
         return any(v != 0.0 for v in (*self.tilt, *self.axis_offset))
@@ -187,6 +187,12 @@ class CatadioptricCamera:
         self._R = rot_y(imp.tilt[1]) @ rot_x(imp.tilt[0])
         self._pinhole = np.array([imp.axis_offset[0], imp.axis_offset[1], 0.0])
         self._side = -1.0 if mirror.concave else 1.0
+        self._solver = MeridianSolver(mirror, camera_z, self._side)
+        #: what fixes the mirror point that reflects a scene point (None: a tilted or shifted
+        #: camera); cameras with equal keys share it (camera.batch.forward_batch)
+        self._reflection_key = (
+            None if imp.geometric else (mirror, camera_z, self.lens_radius, intrinsics)
+        )
         self._r_max = self._image_limited_rim()
         self._r_blind = self._blind_radius()
         if not self._r_blind < self._r_max:
@@ -233,51 +239,6 @@ class CatadioptricCamera:
         dot = ux * nx + uz * nz
         wx, wz = 2.0 * dot * nx - ux, 2.0 * dot * nz - uz  # reflected: towards the scene
         return mz, nx, nz, dot, wx, wz, r
-
-    def _residual(
-        self, s: NDArray[np.float64], rho_p: NDArray[np.float64], z_p: NDArray[np.float64]
-    ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-        """Law-of-reflection residual ``cross(w, u_p)`` and the validity of the branch."""
-        mz, nx, nz, dot, wx, wz, _ = self._meridian(s)
-        px, pz = _unit2(rho_p - s, z_p - mz)
-        g = wx * pz - wz * px
-        valid = (wx * px + wz * pz > 0.0) & (dot > 0.0) & (px * nx + pz * nz > 0.0)
-        return g, valid
-
-    def _solve_meridian(
-        self, rho_p: NDArray[np.float64], z_p: NDArray[np.float64]
-    ) -> NDArray[np.float64]:
-        """Signed mirror radius of the reflection point of each point, NaN if none."""
-        rim = self.mirror.rim_radius
-        grid = self._side * np.linspace(0.0, rim, _GRID)
-        g, valid = self._residual(grid, rho_p[:, None], z_p[:, None])
-        bracket = (g[:, :-1] * g[:, 1:] <= 0.0) & valid[:, :-1] & valid[:, 1:]
-        found = np.any(bracket, axis=1)
-        k = np.argmax(bracket, axis=1)
-        lo, hi = grid[k], grid[k + 1]
-        g_lo = g[np.arange(len(k)), k]
-        g_hi = g[np.arange(len(k)), k + 1]
-        rp, zp = rho_p, z_p
-        # bisection shrinks the bracket to ~1e-10 m, then a few regula-falsi steps (the residual
-        # is smooth there) reach machine precision
-        for _ in range(_BISECTIONS):
-            mid = 0.5 * (lo + hi)
-            g_mid, _ = self._residual(mid, rp, zp)
-            left = np.sign(g_mid) == np.sign(g_lo)
-            lo, g_lo = np.where(left, mid, lo), np.where(left, g_mid, g_lo)
-            hi, g_hi = np.where(left, hi, mid), np.where(left, g_hi, g_mid)
-        with np.errstate(invalid="ignore", divide="ignore"):
-            s = 0.5 * (lo + hi)
-            for _ in range(_SECANTS):
-                step = g_lo * (hi - lo) / (g_hi - g_lo)
-                s = np.where(np.isfinite(step) & (g_hi != g_lo), lo - step, s)
-                s = np.clip(s, np.minimum(lo, hi), np.maximum(lo, hi))
-                g_s, _ = self._residual(s, rp, zp)
-                left = np.sign(g_s) == np.sign(g_lo)
-                lo, g_lo = np.where(left, s, lo), np.where(left, g_s, g_lo)
-                hi, g_hi = np.where(left, hi, s), np.where(left, g_hi, g_s)
-        _, ok = self._residual(s, rp, zp)
-        return np.where(found & ok, s, np.nan)
 
     # --- 3D refinement for a pinhole off the axis --------------------------------------------
     def _offaxis_residual(
@@ -366,7 +327,7 @@ class CatadioptricCamera:
         rho_p = np.hypot(flat[:, 0], flat[:, 1])
         z_p = flat[:, 2] + self.camera_z
         on_axis = rho_p <= 1e-12
-        s = self._solve_meridian(np.where(on_axis, 1.0, rho_p), z_p)
+        s = self._solver.solve(np.where(on_axis, 1.0, rho_p), z_p)
         s = np.where(on_axis, np.nan, s)
         safe = np.where(on_axis, 1.0, rho_p)
         m_m = np.stack(

@@ -20,7 +20,12 @@ import numpy as np
 from radial_ibvs_gym.camera import Imperfections
 from radial_ibvs_gym.envs.config import ParkingConfig
 from radial_ibvs_gym.envs.missed import MissedState
-from radial_ibvs_gym.envs.observation import camera_image, radial_image, unit_or_dummy
+from radial_ibvs_gym.envs.observation import (
+    camera_image,
+    camera_images,
+    radial_image,
+    unit_or_dummy,
+)
 from radial_ibvs_gym.features import c_ij
 from radial_ibvs_gym.geometry import world_to_camera, wrap_angle_scalar
 from radial_ibvs_gym.geometry.bearing_pose import solve_goal_pose
@@ -315,10 +320,13 @@ class EpisodeSource:
         if frames == 1:
             return camera_image(camera, p_cam, rng)
         # a robot parked at the goal grabs many noisy frames: each landmark's mean direction
-        # over the frames that see it (seen in at least half of them)
-        shots = [camera_image(camera, p_cam, rng) for _ in range(frames)]
-        seen = np.sum([v for _, v in shots], axis=0)
-        total = np.sum([x for x, _ in shots], axis=0)
+        # over the frames that see it (seen in at least half of them). One batched projection
+        # of the frames draws the noise as that many calls of camera_image would, in order
+        shots, seen_by = camera_images(
+            [camera] * frames, np.broadcast_to(p_cam, (frames, *p_cam.shape)), [rng] * frames
+        )
+        seen = np.sum(seen_by, axis=0)
+        total = np.sum(shots, axis=0)
         visible = seen * 2 >= frames
         norm = np.linalg.norm(total, axis=-1, keepdims=True)
         points = np.where(visible[:, None], total / np.maximum(norm, 1e-300), 0.0)

@@ -30,6 +30,7 @@ __all__ = [
     "IMPERFECTION_KEYS",
     "INFO_KEYS",
     "REWARD_TERMS",
+    "SUCCESS_TOLERANCES",
     "episode_end",
     "goal_reward_terms",
     "image_distance",
@@ -42,6 +43,14 @@ __all__ = [
     "reward_terms",
     "reward_terms_in",
 ]
+
+#: the success tolerances results are reported at (position in metres, heading in degrees):
+#: the task's own (2 cm / 2 deg, what ``info["is_success"]`` checks by default) and two looser
+SUCCESS_TOLERANCES: dict[str, tuple[float, float]] = {
+    "2cm/2deg": (0.02, 2.0),
+    "10cm/5deg": (0.10, 5.0),
+    "30cm/15deg": (0.30, 15.0),
+}
 
 #: the reward terms, in the order they are summed (``info["reward_<term>"]``)
 REWARD_TERMS = ("progress", "heading", "precision", "time", "collision", "lost", "success")
