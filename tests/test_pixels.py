@@ -6,6 +6,8 @@ import math
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 from radial_ibvs_gym.camera import Imperfections, paper_camera
 from radial_ibvs_gym.geometry import world_to_camera
@@ -391,3 +393,17 @@ def test_random_rooms_redraw_an_episode_whose_goal_image_shows_too_few_beacons()
     tiny = _detected_env(scenario="random", beacon_radius=0.001)  # beacons nobody can see
     with pytest.raises(ValueError, match=r"detected at the goal .* \(in 10 draws\)"):
         tiny.reset(seed=0)
+
+
+@settings(max_examples=60, deadline=None)
+@given(values=st.lists(st.integers(0, 255), min_size=1, max_size=400))
+def test_the_median_grey_level_is_numpys_median(values: list[int]) -> None:
+    from radial_ibvs_gym.vision.detect import _median_grey
+
+    grey = np.asarray(values, dtype=np.uint8)
+    assert _median_grey(grey) == float(np.median(grey))
+
+
+def test_a_beacon_larger_than_the_room_is_refused() -> None:
+    with pytest.raises(ValueError, match="beacon_radius"):
+        RoomScene(size=(0.1, 4.0), height=2.8, beacons=np.array([[0.0, 1.0, 1.0]]))

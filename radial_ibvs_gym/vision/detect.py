@@ -187,6 +187,35 @@ def _grid(
     return yy, xx, radius
 
 
+@functools.lru_cache(maxsize=8)
+def _zones(
+    rows: int,
+    cols: int,
+    border: tuple[float, float, float, float],
+    rim_margin_px: float,
+    centre_exclusion: float,
+) -> tuple[NDArray[np.bool_], NDArray[np.bool_]]:
+    """Return the searched zone inside the border and the band along the rim (cached)."""
+    _, _, radius = _grid(rows, cols, *border)
+    scale = 0.5 * (border[2] + border[3])
+    inner = (radius < 1.0 - rim_margin_px / scale) & (radius > centre_exclusion)
+    band = ~inner & (radius < 1.0 + 1.0 / scale) & (radius > centre_exclusion)
+    for array in (inner, band):
+        array.flags.writeable = False
+    return inner, band
+
+
+def _median_grey(values: NDArray[np.uint8]) -> float:
+    """``np.median`` of grey levels, from their histogram (the same value, without a sort)."""
+    counts = np.cumsum(np.bincount(values, minlength=256))
+    n = int(counts[-1])
+    upper = int(np.searchsorted(counts, n // 2, side="right"))
+    if n % 2:
+        return float(upper)
+    lower = int(np.searchsorted(counts, n // 2 - 1, side="right"))
+    return (lower + upper) / 2.0
+
+
 def detect_beacons(
     image: NDArray[np.uint8],
     border: BorderFit,
@@ -229,19 +258,17 @@ def detect_beacons(
     """
     image = _check_image(image)
     rows, cols = image.shape
-    yy, xx, radius = _grid(
-        rows, cols, *(float(v) for v in border.centre), *(float(v) for v in border.semi_axes)
-    )
-    scale = float(border.semi_axes.mean())
-    inner = (radius < 1.0 - rim_margin_px / scale) & (radius > centre_exclusion)
+    key = (*(float(v) for v in border.centre), *(float(v) for v in border.semi_axes))
+    yy, xx, _ = _grid(rows, cols, *key)
+    inner, band = _zones(rows, cols, key, float(rim_margin_px), float(centre_exclusion))
     if not inner.any():
         return BeaconDetections(np.zeros((0, 2)), np.zeros(0), {"rim": 0, "size": 0, "shape": 0})
-    threshold = dark_fraction * float(np.median(image[inner]))
+    threshold = dark_fraction * _median_grey(image[inner])
     below = image < threshold
     dark = (below & inner).astype(np.uint8)
     n, labels, stats, _ = cv2.connectedComponentsWithStats(dark, connectivity=8)
     # blobs touching the dark band along the rim are cut by it
-    band_dark = below & ~inner & (radius < 1.0 + 1.0 / scale) & (radius > centre_exclusion)
+    band_dark = below & band
     max_area = max_area_fraction * rows * cols
     kernel = np.ones((3, 3), np.uint8)
     ring_kernel = np.ones((7, 7), np.uint8)

@@ -10,7 +10,7 @@ beacons (discs on the walls). Pure numpy.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -38,13 +38,16 @@ class RoomScene:
     beacons
         ``(K, 3)`` beacon centres on the walls, world frame, metres.
     beacon_radius
-        Radius of the beacon discs, metres.
+        Radius of the beacon discs, metres (under half the room's smaller side).
+    walls
+        Set on creation: the wall of each beacon (:meth:`wall_of`).
     """
 
     size: tuple[float, float]
     height: float
     beacons: NDArray[np.float64]
     beacon_radius: float = 0.08
+    walls: tuple[int, ...] = field(init=False, repr=False, compare=False, default=())
 
     def __post_init__(self) -> None:
         w, d = self.size
@@ -57,9 +60,18 @@ class RoomScene:
         beacons = as_float_array(self.beacons, "beacons").reshape(-1, 3)
         check_finite(beacons, "beacons")
         object.__setattr__(self, "beacons", beacons)
+        if not 2.0 * self.beacon_radius < min(w, d):
+            raise ValueError(
+                f"beacon_radius {self.beacon_radius!r} m does not fit the {w} x {d} m room "
+                "(it must be under half its smaller side)"
+            )
+        walls = []
         for b in beacons:
-            if self.wall_of(b) is None:
+            wall = self.wall_of(b)
+            if wall is None:
                 raise ValueError(f"beacon {b.tolist()} is not on a wall of the {w} x {d} m room")
+            walls.append(wall)
+        object.__setattr__(self, "walls", tuple(walls))
 
     def wall_of(self, point: NDArray[np.float64], tol: float = 1e-6) -> int | None:
         """Wall index of a point (0: x = 0, 1: x = width, 2: y = 0, 3: y = depth), or None."""
@@ -208,14 +220,23 @@ class OmniRenderer:
         t = np.where(on_x, tx, np.where(on_y, ty, tz))
         shade = np.where(on_x, _SHADE["x"], np.where(on_y, _SHADE["y"], self._flat_shade))
         shade = shade / (1.0 + 0.03 * t)  # gentle fall-off with distance
+        # the beacons: each ray's hit point, then each beacon tested against the rays that hit
+        # its wall only (a ray on the opposite wall is a room's width away from it)
+        hit_x, hit_y, hit_z = ox + t * dx, oy + t * dy, oz + t * dz
+        facing = {
+            0: np.flatnonzero(on_x & (dx < 0)),
+            1: np.flatnonzero(on_x & (dx > 0)),
+            2: np.flatnonzero(on_y & (dy < 0)),
+            3: np.flatnonzero(on_y & (dy > 0)),
+        }
+        on_wall = {
+            wall: (index, hit_x[index], hit_y[index], hit_z[index])
+            for wall, index in facing.items()
+        }
         r2 = scene.beacon_radius**2
-        walls = {0: np.flatnonzero(on_x), 2: np.flatnonzero(on_y)}
-        for beacon in scene.beacons:
-            index = walls[2 * (scene.wall_of(beacon) // 2)]  # type: ignore[operator]
-            ti = t[index]
-            hx = ox[index] + ti * dx[index] - beacon[0]
-            hy = oy[index] + ti * dy[index] - beacon[1]
-            hz = oz[index] + ti * dz[index] - beacon[2]
+        for beacon, wall in zip(scene.beacons, scene.walls, strict=True):
+            index, wx, wy, wz = on_wall[wall]
+            hx, hy, hz = wx - beacon[0], wy - beacon[1], wz - beacon[2]
             shade[index[hx * hx + hy * hy + hz * hz < r2]] = _BEACON
         image = self._background.copy().reshape(-1)
         image[self._index] = shade
