@@ -171,6 +171,29 @@ def test_long_variants_are_split_into_chunks_and_merged_back_in_seed_order(monke
         assert [task for task, _ in result.paths] == [0, 1, 2, 3]
 
 
+def test_the_costliest_jobs_start_first_and_the_results_keep_their_order() -> None:
+    from agents.experiments.backends import LocalBackend
+    from agents.experiments.benchmark import job_cost
+
+    class Recording(LocalBackend):
+        def imap_unordered(self, fn, items, initializer=None):
+            self.started = [(item.variant.suite, item.variant.label) for item in items]
+            yield from super().imap_unordered(fn, items, initializer)
+
+    backend = Recording(1)
+    results = run_benchmark(
+        ["random"], ["paper", "pixels", "noise"], episodes=1, progress=False, backend=backend
+    )
+    assert backend.started[:2] == [
+        ("pixels", "paper-sim detected"),
+        ("pixels", "paper-lab detected"),
+    ]
+    assert {suite for suite, _ in backend.started[2:5]} == {"noise"}  # 3 imperfect cameras
+    costs = [job_cost(r.job) for r in results]
+    assert costs != sorted(costs, reverse=True)  # the results are in suite order, not run order
+    assert [r.job.variant.suite for r in results][:2] == ["paper", "paper"]
+
+
 def test_generalisation_suites_use_held_out_seeds_and_other_cameras() -> None:
     from agents.experiments.suites import HELD_OUT_SEED
 
