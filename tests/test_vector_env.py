@@ -105,6 +105,36 @@ def test_native_equals_sync_with_an_imperfect_camera_and_short_time_limit(mode: 
     assert ends >= 4  # truncations at 25 steps
 
 
+def test_with_autoreset_disabled_an_ended_env_is_not_observed_until_reset() -> None:
+    camera = {"mirror": "A", "non_central_offset": 0.01, "imperfections": {"pixel_noise_std": 0.5}}
+    kwargs: dict[str, Any] = {"physics": "kinematic", "camera": camera}
+    native = gym.make_vec(
+        "RadialIBVS/Parking-v0", num_envs=2, vectorization_mode="vector_entry_point",
+        autoreset_mode="disabled", max_episode_steps=5, **kwargs,
+    )  # fmt: skip
+    obs, _ = native.reset(seed=[3, 4])
+    actions = np.tile(np.array([[0.5, 0.2]], dtype=np.float32), (2, 1))
+    for _ in range(5):
+        obs, _, terminated, truncated, _ = native.step(actions)
+    assert (terminated | truncated).all()  # both ended at the time limit
+    native.reset(seed=[None, 4], options={"reset_mask": np.array([False, True])})
+    last = obs["points"][0].copy()
+    for _ in range(3):
+        obs, *_ = native.step(actions)
+        np.testing.assert_array_equal(obs["points"][0], last)  # env 0: camera off
+    assert not np.array_equal(obs["points"][1], last)
+    # env 1 ran as a fresh env with its seed would: the ended env drew nothing from it
+    single = gym.make("RadialIBVS/Parking-v0", **kwargs)
+    single_obs, _ = single.reset(seed=4)
+    for _ in range(3):
+        single_obs, *_ = single.step(actions[0])
+    np.testing.assert_array_equal(obs["points"][1], single_obs["points"])
+    # a reset turns the camera back on, with the generator the env had
+    obs, _ = native.reset(options={"reset_mask": np.array([True, False])})
+    obs, *_ = native.step(actions)
+    assert not np.array_equal(obs["points"][0], last)
+
+
 def test_same_seed_gives_the_same_trajectory_bit_for_bit() -> None:
     def rollout() -> list[np.ndarray]:
         envs = gym.make_vec("RadialIBVS/Parking-v0", num_envs=4, scenario="random")

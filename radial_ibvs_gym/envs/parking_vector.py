@@ -66,7 +66,8 @@ class ParkingVectorEnv(VectorEnv):
     episode ends resets that env, ignoring its action, with reward 0) or ``"same_step"`` (the
     env is reset in the step that ends it; ``info["final_obs"]`` and ``info["final_info"]``
     hold the last observation and info) or ``"disabled"`` (no env is reset by ``step``: an
-    env that ended keeps its last state, steps on if asked, and is reset by the caller).
+    env that ended steps on if asked, its camera off: its observation stays that of the step
+    that ended it, and an imperfect camera draws no more noise, until the caller resets it).
     ``reset(options={"reset_mask": mask})`` resets only the masked envs.
 
     ## Info
@@ -170,6 +171,7 @@ class ParkingVectorEnv(VectorEnv):
         self._prev = (np.zeros(n), np.zeros(n))
         self._elapsed = np.zeros(n, dtype=np.int64)
         self._autoreset = np.zeros(n, dtype=bool)
+        self._ended = np.zeros(n, dtype=bool)  # autoreset "disabled": ended, not reset since
         self._slot_orders = np.zeros((n, nl), dtype=np.intp)  # slot_order="random": per env
         camera = self.scenario.config.camera
         self._drawn = camera.imperfection_ranges is not None  # imperfections drawn per episode
@@ -235,6 +237,7 @@ class ParkingVectorEnv(VectorEnv):
         indices = np.flatnonzero(mask)
         self._reset_envs(indices, options)
         self._autoreset[indices] = False
+        self._ended[indices] = False
         info = self._reset_info(indices)
         return self._observation(), info
 
@@ -319,6 +322,8 @@ class ParkingVectorEnv(VectorEnv):
             # the envs being reset do not observe: an imperfect camera's noise would use up
             # their generators, which their reset must find as SyncVectorEnv leaves them
             self._observe(poses, np.flatnonzero(~resetting))
+        elif self.autoreset_mode == AutoresetMode.DISABLED and self._ended.any():
+            self._observe(poses, np.flatnonzero(~self._ended))  # the ended ones: camera off
         else:
             self._observe(poses, np.arange(n))
         now = rules.pose_errors(poses.T, self._goals.T)
@@ -356,6 +361,8 @@ class ParkingVectorEnv(VectorEnv):
                 self._refresh(obs, idx)
                 self._merge_reset_info(info, idx)
             self._autoreset = terminated | truncated
+        elif self.autoreset_mode == AutoresetMode.DISABLED:
+            self._ended |= terminated | truncated
         elif self.autoreset_mode == AutoresetMode.SAME_STEP:  # the envs that ended reset now
             ended = terminated | truncated
             if ended.any():
