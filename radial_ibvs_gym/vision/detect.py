@@ -301,7 +301,7 @@ def detect_beacons(
                 continue
         window = image[r0:r1, c0:c1].astype(np.float64)
         ring = (cv2.dilate(blob, ring_kernel) > 0) & ~grown & (labels[r0:r1, c0:c1] == 0)
-        background = float(np.median(window[ring])) if ring.any() else threshold
+        background = _median_grey(image[r0:r1, c0:c1][ring]) if ring.any() else threshold
         wts = np.clip(background - window, 0.0, None) * grown
         total = wts.sum()
         if total <= 0:
