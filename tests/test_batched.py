@@ -110,3 +110,26 @@ def test_what_is_not_batched_says_why() -> None:
     physics = _variant("physics", "pymunk")
     job = jobs.Job("ibvs", replace(physics, episodes=1), 1)
     assert jobs.run_job(job).rows  # the scalar path runs it
+
+
+def test_the_policy_sees_only_the_robots_whose_episodes_go_on(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from agents.analytic.pbvs_ekf import PBVSEKFPolicy
+
+    sizes: list[int] = []
+    predict = PBVSEKFPolicy.predict
+
+    def recording(self, observation, state=None, episode_start=None, deterministic=True):
+        sizes.append(len(observation["points"]))
+        if state is not None:
+            assert len(state) == sizes[-1]  # the filters of those robots only
+        return predict(self, observation, state, episode_start, deterministic)
+
+    monkeypatch.setattr(PBVSEKFPolicy, "predict", recording)
+    logs = run_batch(make_policy("pbvs-ekf"), [100_000 + k for k in range(6)], "random",
+                     {"physics": "kinematic"})  # fmt: skip
+    lengths = sorted(len(log.actions) for log in logs)
+    assert lengths[0] < lengths[-1]  # the episodes end at different steps
+    assert sizes[0] == 6 and sizes[-1] == sum(n == lengths[-1] for n in lengths)
+    assert sizes == sorted(sizes, reverse=True) and len(sizes) == lengths[-1]

@@ -89,3 +89,10 @@ class FilteredPolicy:
         fed = {**observation, "points": filtered.reshape(points.shape).astype(np.float32)}
         action, _ = self.base.predict(fed, None, episode_start, deterministic)
         return action, (filtered, visible)
+
+    @staticmethod
+    def select_state(
+        state: tuple[np.ndarray, np.ndarray], rows: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Return the memory of the robots at positions ``rows`` of the batch."""
+        return state[0][rows], state[1][rows]

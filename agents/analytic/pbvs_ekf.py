@@ -125,6 +125,11 @@ class PBVSEKFPolicy(PBVSPolicy):
         out = actions.astype(np.float32)
         return (out if batched else out[0]), new_filters
 
+    @staticmethod
+    def select_state(state: list[Any], rows: np.ndarray) -> list[Any]:
+        """Return the filters of the robots at positions ``rows`` of the batch."""
+        return [state[int(i)] for i in rows]
+
     def _predict(self, f: dict[str, Any], action: np.ndarray) -> None:
         """Move the goal by the robot's motion over one period (the command, limited)."""
         robot = self.law.robot

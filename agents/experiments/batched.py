@@ -6,9 +6,11 @@
 other seed takes its place). The episodes are the same, seed for seed: the native vector env
 draws each robot's episode from its own generator, as the scalar env does.
 
-The policy is called once per step on the whole batch (:func:`batch_mode`: the analytic policies
-give each robot's action bit for bit as alone; the networks to the last bits of a matrix
-product), or once per robot (the planner). Through an ideal camera the rows are the scalar
+The policy is called once per step on the robots whose episodes go on (:func:`batch_mode`: the
+analytic policies give each robot's action bit for bit as alone; the networks to the last bits
+of a matrix product), or once per robot (the planner). A policy that keeps a state between
+steps cuts it to those robots with its ``select_state(state, rows)``; one without that method
+is called on the whole batch. Through an ideal camera the rows are the scalar
 runner's: bit for bit for the analytic policies, the same successes and ends for the networks
 (the ideal-camera variants of the generalisation suites, 408 episodes per policy). Through a
 camera with imperfections the vector env projects every robot's landmarks in one batched
@@ -83,6 +85,22 @@ def batchable(env_id: str, env_kwargs: Mapping[str, Any]) -> str | None:
     if env_kwargs.get("physics", "pymunk") == "pymunk":
         return "pymunk's batched contacts differ from the scalar env's in the last bits"
     return None
+
+
+#: :func:`_state_of`'s answer for a state it cannot cut: call the policy on the whole batch
+_WHOLE_BATCH = object()
+
+
+def _state_of(policy: Any, state: Any, rows: np.ndarray) -> Any:
+    """Return the policy's state for the robots at positions ``rows`` of its batch.
+
+    ``None`` (no state) stays ``None``; a policy with a state cuts it by its
+    ``select_state(state, rows)``; without that method the policy sees the whole batch.
+    """
+    if state is None:
+        return None
+    select = getattr(policy, "select_state", None)
+    return _WHOLE_BATCH if select is None else select(state, rows)
 
 
 def _row_of(values: Mapping[str, Any], i: int) -> dict[str, Any]:
@@ -213,14 +231,23 @@ def _run(
     states: list[Any] = [None] * n
     batch_state: Any = None
     starts = np.ones(n, dtype=bool)
+    state_rows = np.arange(n)  # the robots batch_state describes, in its order
     while not ended.all():
         live = np.flatnonzero(~ended)
         act = np.zeros((n, 2), dtype=np.float32)
         if exact:
+            # the robots whose episodes go on, alone, where the policy's state allows it
+            rows = live if len(live) < len(state_rows) else state_rows
+            state = _state_of(policy, batch_state, np.searchsorted(state_rows, rows))
+            if state is _WHOLE_BATCH:
+                rows, state = np.arange(n), batch_state
+            fed = obs if len(rows) == n else {k: v[rows] for k, v in obs.items()}
             start = time.perf_counter()
-            out, batch_state = policy.predict(obs, batch_state, starts, deterministic=True)
+            out, batch_state = policy.predict(fed, state, starts[rows], deterministic=True)
             compute[live] += (time.perf_counter() - start) / len(live)
-            act[live] = np.asarray(out)[live]
+            state_rows = rows
+            act[rows] = np.asarray(out)
+            act[ended] = 0.0
         else:
             for i in live.tolist():
                 single = {k: v[i] for k, v in obs.items()}

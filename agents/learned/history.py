@@ -209,6 +209,11 @@ class HistoryPolicy:
         action = np.asarray(action, dtype=np.float32)
         return (action[0] if single else action), stack.state()
 
+    @staticmethod
+    def select_state(state: dict[str, np.ndarray], rows: np.ndarray) -> dict[str, np.ndarray]:
+        """Return the history of the robots at positions ``rows`` of the batch."""
+        return {key: past[:, rows] for key, past in state.items()}
+
 
 def history_vec_env(venv: Any, config: HistoryConfig) -> Any:
     """Wrap an SB3 ``VecEnv`` so that its observations carry the history (training side).

@@ -180,6 +180,11 @@ class ResidualPolicy:
         """The ``gym.make`` arguments the model was trained with."""
         return {**self.base.env_kwargs, **self.learned.env_kwargs}
 
+    @property
+    def select_state(self) -> Any:
+        """The model's ``select_state`` (None: its state cannot be cut to fewer robots)."""
+        return getattr(self.learned, "select_state", None)
+
     def check_observation_space(self, space: Any) -> None:
         """Raise a ``ValueError`` if the env's observation is not the model's (less the base)."""
         full = spaces.Dict(
