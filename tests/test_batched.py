@@ -123,7 +123,7 @@ def test_the_policy_sees_only_the_robots_whose_episodes_go_on(
     def recording(self, observation, state=None, episode_start=None, deterministic=True):
         sizes.append(len(observation["points"]))
         if state is not None:
-            assert len(state) == sizes[-1]  # the filters of those robots only
+            assert len(state.started) == sizes[-1]  # the filters of those robots only
         return predict(self, observation, state, episode_start, deterministic)
 
     monkeypatch.setattr(PBVSEKFPolicy, "predict", recording)

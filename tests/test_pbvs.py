@@ -107,11 +107,13 @@ def test_the_filter_predicts_the_goal_through_the_robots_own_motion() -> None:
     from agents.analytic.pbvs_ekf import PBVSEKFPolicy
 
     ekf = PBVSEKFPolicy()
-    f = {"mean": np.array([2.0, 1.0, 0.3]), "cov": ekf.init_cov.copy(), "velocity": np.zeros(2)}
-    ekf._predict(f, np.array([0.0, 0.0]))  # standing still: the goal stays
-    np.testing.assert_allclose(f["mean"], [2.0, 1.0, 0.3])
+    mean, cov, velocity = np.array([[2.0, 1.0, 0.3]]), ekf.init_cov[None].copy(), np.zeros((1, 2))
+    started = np.array([True])
+    mean, cov, velocity = ekf._predict(mean, cov, velocity, np.zeros((1, 2)), started)
+    np.testing.assert_allclose(mean[0], [2.0, 1.0, 0.3])  # standing still: the goal stays
     for _ in range(30):  # full speed ahead: the goal comes closer, straight on
-        ekf._predict(f, np.array([1.0, 0.0]))
-    assert f["mean"][0] < 2.0 and f["mean"][1:] == pytest.approx([1.0, 0.3])
+        mean, cov, velocity = ekf._predict(mean, cov, velocity, np.array([[1.0, 0.0]]), started)
+    assert mean[0, 0] < 2.0 and mean[0, 1:] == pytest.approx([1.0, 0.3])
+    assert np.all(np.linalg.eigvalsh(cov[0]) > np.linalg.eigvalsh(ekf.init_cov))  # less sure
     with pytest.raises(ValueError, match="bearing_std"):
         PBVSEKFPolicy(bearing_std=0.0)

@@ -30,15 +30,15 @@ command is zero.
 from __future__ import annotations
 
 import math
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 
 from agents.analytic.pbvs import PBVSPolicy
-from radial_ibvs_gym.geometry import pose_in_frame
-from radial_ibvs_gym.physics import integrate_unicycle, limit_command
+from radial_ibvs_gym.geometry import wrap_angle
+from radial_ibvs_gym.physics.fleet import limit_commands
 
-__all__ = ["PBVSEKFPolicy"]
+__all__ = ["Filters", "PBVSEKFPolicy"]
 
 
 class PBVSEKFPolicy(PBVSPolicy):
@@ -59,9 +59,10 @@ class PBVSEKFPolicy(PBVSPolicy):
 
     Notes
     -----
-    ``state`` (``predict``'s second value) holds, per robot, the filter's mean, covariance,
-    last applied velocity and whether it has started; pass it back at the next step, with
-    ``episode_start`` true at a reset.
+    ``state`` (``predict``'s second value, :class:`Filters`) holds, per robot, the filter's
+    mean, covariance, last applied velocity and whether it has started; pass it back at the
+    next step, with ``episode_start`` true at a reset. Every robot of a batch is filtered at
+    once (the same maths for one robot or many).
     """
 
     def __init__(
@@ -105,69 +106,134 @@ class PBVSEKFPolicy(PBVSPolicy):
         """
         obs, batched = self._as_batch(observation)
         b = len(obs["points"])
-        filters = state if state is not None else [None] * b
+        filters = state if isinstance(state, Filters) and len(state.started) == b else None
+        if filters is None:
+            filters = Filters.empty(b)
         starts = np.ones(b, dtype=bool) if episode_start is None else np.asarray(episode_start)
-        if starts.shape != (b,):
-            starts = np.broadcast_to(starts, (b,))
+        starts = np.broadcast_to(starts.astype(bool).reshape(-1), (b,))
+        started = filters.started & ~starts
+        mean, cov = self._update(filters.mean.copy(), filters.cov.copy(), obs, started)
         solved, valid = self.goal_pose(obs)
+        new = ~started & valid  # the first pose solved from the image starts the filter
+        mean[new], cov[new] = solved[new], self.init_cov
+        velocity = np.where(new[:, None], 0.0, filters.velocity)
+        started = started | new
         actions = np.zeros((b, 2))
-        new_filters = []
-        for i in range(b):
-            f = None if starts[i] else filters[i]
-            if f is None and valid[i]:
-                f = {"mean": solved[i].copy(), "cov": self.init_cov.copy(), "velocity": np.zeros(2)}
-            elif f is not None:
-                self._update(f, {k: v[i] for k, v in obs.items()})
-            if f is not None:
-                actions[i] = np.clip(self.law.act(np.zeros(3), f["mean"]), -1.0, 1.0)
-                self._predict(f, actions[i])
-            new_filters.append(f)
+        origin = np.zeros(3)
+        for i in np.flatnonzero(started).tolist():
+            actions[i] = self.law.act(origin, mean[i])
+        actions = np.clip(actions, -1.0, 1.0)
+        mean, cov, velocity = self._predict(mean, cov, velocity, actions, started)
         out = actions.astype(np.float32)
-        return (out if batched else out[0]), new_filters
+        return (out if batched else out[0]), Filters(mean, cov, velocity, started)
 
     @staticmethod
-    def select_state(state: list[Any], rows: np.ndarray) -> list[Any]:
+    def select_state(state: Filters, rows: np.ndarray) -> Filters:
         """Return the filters of the robots at positions ``rows`` of the batch."""
-        return [state[int(i)] for i in rows]
+        return Filters(*(np.asarray(part)[rows] for part in state))
 
-    def _predict(self, f: dict[str, Any], action: np.ndarray) -> None:
-        """Move the goal by the robot's motion over one period (the command, limited)."""
-        robot = self.law.robot
-        dt = self.control_dt
+    def _predict(
+        self,
+        mean: np.ndarray,
+        cov: np.ndarray,
+        velocity: np.ndarray,
+        action: np.ndarray,
+        started: np.ndarray,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Move the goals by the robots' motion over one period (the commands, limited)."""
+        robot, dt = self.law.robot, self.control_dt
         command = action * np.array([robot.max_linear_speed, robot.max_angular_speed])
-        velocity = limit_command(command, f["velocity"], dt, robot)
-        v, omega = float(velocity[0]), float(velocity[1])
-        moved = integrate_unicycle(np.zeros(3), v, omega, dt)  # the robot, in its old frame
-        mean = np.array(pose_in_frame(moved, f["mean"]))
-        c, s = math.cos(moved[2]), math.sin(moved[2])
-        jacobian = np.array([[c, s, 0.0], [-s, c, 0.0], [0.0, 0.0, 1.0]])
-        q_xy = (self.motion_std * abs(v) * dt + 1e-4) ** 2
-        q_theta = (self.motion_std * abs(omega) * dt + 1e-4) ** 2
-        f["cov"] = jacobian @ f["cov"] @ jacobian.T + np.diag([q_xy, q_xy, q_theta])
-        f["mean"], f["velocity"] = mean, velocity
+        applied = limit_commands(command, velocity, dt, robot)
+        v, omega = applied[:, 0], applied[:, 1]
+        # the robot's move in its old frame: the exact unicycle (integrate_unicycle), batched
+        half = 0.5 * omega * dt
+        small = np.abs(half) <= 1e-12
+        sinc = np.where(small, 1.0 - half * half / 6.0, np.sin(half) / np.where(small, 1.0, half))
+        chord = v * dt * sinc
+        mx, my, myaw = chord * np.cos(half), chord * np.sin(half), wrap_angle(omega * dt)
+        # the goal in the robot's new frame (pose_in_frame), and that map's Jacobian
+        c, s = np.cos(myaw), np.sin(myaw)
+        dx, dy = mean[:, 0] - mx, mean[:, 1] - my
+        moved = np.stack([c * dx + s * dy, -s * dx + c * dy, wrap_angle(mean[:, 2] - myaw)], -1)
+        zero, one = np.zeros_like(c), np.ones_like(c)
+        jacobian = np.stack(
+            [
+                np.stack([c, s, zero], -1),
+                np.stack([-s, c, zero], -1),
+                np.stack([zero, zero, one], -1),
+            ],
+            axis=-2,
+        )
+        q_xy = (self.motion_std * np.abs(v) * dt + 1e-4) ** 2
+        q_theta = (self.motion_std * np.abs(omega) * dt + 1e-4) ** 2
+        noise = np.zeros_like(cov)
+        noise[:, 0, 0], noise[:, 1, 1], noise[:, 2, 2] = q_xy, q_xy, q_theta
+        predicted = jacobian @ cov @ np.swapaxes(jacobian, -1, -2) + noise
+        keep = started[:, None]
+        return (
+            np.where(keep, moved, mean),
+            np.where(keep[..., None], predicted, cov),
+            np.where(keep, applied, velocity),
+        )
 
-    def _update(self, f: dict[str, Any], obs: dict[str, np.ndarray]) -> None:
-        """Correct the pose with the bearings of the landmarks seen now and at the goal."""
-        now = np.asarray(obs["points"], dtype=np.float64).reshape(-1, 2)
-        goal = np.asarray(obs["goal_points"], dtype=np.float64).reshape(-1, 2)
+    def _update(
+        self, mean: np.ndarray, cov: np.ndarray, obs: dict[str, np.ndarray], rows: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """Correct the poses of ``rows`` with the bearings of the landmarks seen now and at goal.
+
+        A landmark not seen gets a zero row in the measurement Jacobian and a zero residual: it
+        changes nothing, and every robot's update is one fixed-size solve.
+        """
+        b = len(mean)
+        now = np.asarray(obs["points"], dtype=np.float64).reshape(b, -1, 2)
+        goal = np.asarray(obs["goal_points"], dtype=np.float64).reshape(b, -1, 2)
         seen = (np.linalg.norm(goal, axis=-1) > 0.5) & (np.asarray(obs["visible"]) > 0.5)
+        seen &= rows[:, None]
         if not seen.any():
-            return
-        depth = np.asarray(obs["goal_depths"], dtype=np.float64).reshape(-1)[seen]
-        p = depth[:, None] * goal[seen]
-        x, y, theta = f["mean"]
-        c, s = math.cos(theta), math.sin(theta)
-        q = np.stack([c * p[:, 0] - s * p[:, 1] + x, s * p[:, 0] + c * p[:, 1] + y], axis=-1)
-        r2 = np.maximum((q**2).sum(axis=-1), 1e-12)
-        predicted = np.arctan2(q[:, 1], q[:, 0])
-        measured = np.arctan2(now[seen, 1], now[seen, 0])
-        residual = np.angle(np.exp(1j * (measured - predicted)))
-        dq_dtheta = np.stack([-s * p[:, 0] - c * p[:, 1], c * p[:, 0] - s * p[:, 1]], axis=-1)
-        dbeta_dq = np.stack([-q[:, 1], q[:, 0]], axis=-1) / r2[:, None]
-        h = np.concatenate([dbeta_dq, (dbeta_dq * dq_dtheta).sum(axis=-1)[:, None]], axis=-1)
-        innovation = h @ f["cov"] @ h.T + self.bearing_std**2 * np.eye(len(h))
-        gain = np.linalg.solve(innovation, h @ f["cov"]).T
-        mean = f["mean"] + gain @ residual
-        mean[2] = math.atan2(math.sin(mean[2]), math.cos(mean[2]))
-        f["mean"] = mean
-        f["cov"] = (np.eye(3) - gain @ h) @ f["cov"]
+            return mean, cov
+        depth = np.asarray(obs["goal_depths"], dtype=np.float64).reshape(b, -1)
+        p = depth[..., None] * goal  # (B, M, 2), the landmarks in the goal's frame
+        x, y, theta = mean[:, 0:1], mean[:, 1:2], mean[:, 2:3]
+        c, s = np.cos(theta), np.sin(theta)
+        qx, qy = c * p[..., 0] - s * p[..., 1] + x, s * p[..., 0] + c * p[..., 1] + y
+        r2 = np.maximum(qx * qx + qy * qy, 1e-12)
+        predicted = np.arctan2(qy, qx)
+        measured = np.arctan2(now[..., 1], now[..., 0])
+        residual = np.where(seen, np.angle(np.exp(1j * (measured - predicted))), 0.0)
+        dq_x, dq_y = -s * p[..., 0] - c * p[..., 1], c * p[..., 0] - s * p[..., 1]
+        db_x, db_y = -qy / r2, qx / r2
+        h = np.stack([db_x, db_y, db_x * dq_x + db_y * dq_y], axis=-1) * seen[..., None]
+        m = h.shape[1]
+        innovation = h @ cov @ np.swapaxes(h, -1, -2) + self.bearing_std**2 * np.eye(m)
+        gain = np.swapaxes(np.linalg.solve(innovation, h @ cov), -1, -2)  # (B, 3, M)
+        corrected = mean + (gain @ residual[..., None])[..., 0]
+        corrected[:, 2] = np.arctan2(np.sin(corrected[:, 2]), np.cos(corrected[:, 2]))
+        updated = (np.eye(3) - gain @ h) @ cov
+        keep = seen.any(axis=1)
+        return np.where(keep[:, None], corrected, mean), np.where(keep[:, None, None], updated, cov)
+
+
+class Filters(NamedTuple):
+    """The filters of a batch of robots (``PBVSEKFPolicy.predict``'s state).
+
+    Attributes
+    ----------
+    mean
+        ``(B, 3)`` the goal's pose in each robot's frame, metres and radians.
+    cov
+        ``(B, 3, 3)`` its covariance.
+    velocity
+        ``(B, 2)`` the velocity each robot applied last, m/s and rad/s.
+    started
+        ``(B,)`` whether each robot's filter has a pose yet.
+    """
+
+    mean: np.ndarray
+    cov: np.ndarray
+    velocity: np.ndarray
+    started: np.ndarray
+
+    @classmethod
+    def empty(cls, b: int) -> Filters:
+        """Return ``b`` filters that have not started."""
+        return cls(np.zeros((b, 3)), np.zeros((b, 3, 3)), np.zeros((b, 2)), np.zeros(b, bool))

@@ -14,7 +14,6 @@ frame. Prints the median position errors (centimetres) and the number of frames.
 from __future__ import annotations
 
 import argparse
-import copy
 
 import gymnasium as gym
 import numpy as np
@@ -42,12 +41,13 @@ def measure(episodes: int, noise: float) -> tuple[float, float, int]:
             start = np.array([False])
             obs, _, terminated, truncated, _ = env.step(action)
             truth = np.array(pose_in_frame(obs["robot_pose"], obs["goal_pose"]))
-            solved, valid = policy.goal_pose({k: v[None] for k, v in obs.items()})
-            if valid[0] and state[0] is not None:
-                updated = copy.deepcopy(state[0])
-                policy._update(updated, obs)  # what the next call does with this frame
+            batch = {k: v[None] for k, v in obs.items()}
+            solved, valid = policy.goal_pose(batch)
+            if valid[0] and state.started[0]:
+                # what the next call does with this frame
+                mean, _ = policy._update(state.mean, state.cov, batch, state.started)
                 solve_errors.append(np.hypot(*(solved[0, :2] - truth[:2])))
-                filter_errors.append(np.hypot(*(updated["mean"][:2] - truth[:2])))
+                filter_errors.append(np.hypot(*(mean[0, :2] - truth[:2])))
             if terminated or truncated:
                 break
     return float(np.median(solve_errors)), float(np.median(filter_errors)), len(solve_errors)
