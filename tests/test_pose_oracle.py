@@ -98,3 +98,14 @@ def test_backward_variants_park_the_papers_four_tasks(name: str) -> None:
     for task in range(4):
         env = make_env(policy, "paper-sim", {"physics": "kinematic", "task": task})
         assert run_episode(policy, env, seed=0).success, task
+
+
+@pytest.mark.parametrize("backward", [False, True])
+def test_the_batched_law_from_the_origin_is_the_scalar_law_bit_for_bit(backward: bool) -> None:
+    oracle = PoseOracle(allow_backward=backward)
+    rng = np.random.default_rng(0)
+    goals = np.concatenate([rng.uniform(-3, 3, (600, 2)), rng.uniform(-3.2, 3.2, (600, 1))], 1)
+    goals[:200, :2] *= 1e-3  # the final approach and the stop
+    goals[200:400, :2] *= 1e-2
+    alone = np.array([oracle.act(np.zeros(3), goal) for goal in goals])
+    np.testing.assert_array_equal(oracle.act_from_origin(goals), alone)

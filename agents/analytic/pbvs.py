@@ -104,9 +104,8 @@ class PBVSPolicy:
         """
         obs, batched = self._as_batch(observation)
         targets, valid = self.goal_pose(obs)
-        origin = np.zeros(3)
         actions = np.zeros((len(targets), 2))
-        for i in np.flatnonzero(valid).tolist():
-            actions[i] = self.law.act(origin, targets[i])
+        if valid.any():
+            actions[valid] = self.law.act_from_origin(targets[valid])
         actions = np.clip(actions, -1.0, 1.0).astype(np.float32)
         return (actions if batched else actions[0]), state

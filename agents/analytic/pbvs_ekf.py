@@ -119,9 +119,8 @@ class PBVSEKFPolicy(PBVSPolicy):
         velocity = np.where(new[:, None], 0.0, filters.velocity)
         started = started | new
         actions = np.zeros((b, 2))
-        origin = np.zeros(3)
-        for i in np.flatnonzero(started).tolist():
-            actions[i] = self.law.act(origin, mean[i])
+        if started.any():
+            actions[started] = self.law.act_from_origin(mean[started])
         actions = np.clip(actions, -1.0, 1.0)
         mean, cov, velocity = self._predict(mean, cov, velocity, actions, started)
         out = actions.astype(np.float32)

@@ -13,8 +13,9 @@ from typing import Any
 import numpy as np
 
 from agents.analytic.ibvs_maths import park_command
+from agents.analytic.ibvs_maths_batch import park_command_batch
 from agents.analytic.smooth_control import SmoothControlLaw, ego_polar
-from radial_ibvs_gym.geometry import pose_in_frame
+from radial_ibvs_gym.geometry import pose_in_frame, wrap_angle
 from radial_ibvs_gym.physics import RobotConfig
 
 __all__ = ["PoseOracle"]
@@ -122,6 +123,26 @@ class PoseOracle:
         actions = np.array([self.act(p, g) for p, g in zip(robots, goals, strict=True)])
         actions = np.clip(actions, -1.0, 1.0).astype(np.float32).reshape(-1, 2)
         return (actions if batched else actions[0]), state
+
+    def act_from_origin(self, goals: np.ndarray) -> np.ndarray:
+        """Return the actions ``(B, 2)`` towards goals ``(B, 3)`` given in the robot's frame.
+
+        :meth:`act` with ``pose`` at the origin, for a batch (eq. 38 batched,
+        :func:`~agents.analytic.ibvs_maths_batch.park_command_batch`; one robot at a time
+        with a ``law``). Metres and radians in, ``(v / v_max, omega / omega_max)`` out, not
+        clipped.
+        """
+        goals = np.asarray(goals, dtype=np.float64).reshape(-1, 3)
+        if self.law is not None:
+            origin = np.zeros(3)
+            return np.array([self.act(origin, g) for g in goals], dtype=np.float64).reshape(-1, 2)
+        v_max, w_max = self.robot.max_linear_speed, self.robot.max_angular_speed
+        v, omega = park_command_batch(
+            self.lam * goals[:, :2], wrap_angle(goals[:, 2]), self.lam, self.k1, self.k2,
+            v_max, w_max, self.stop_radius, self.stop_heading, self.rotate_radius,
+            self.allow_backward,
+        )  # fmt: skip
+        return np.stack([v / v_max, omega / w_max], axis=-1)
 
     def act(self, pose: np.ndarray, goal: np.ndarray) -> tuple[float, float]:
         """Return the action ``(v / v_max, omega / omega_max)`` from ``pose`` to ``goal``.
