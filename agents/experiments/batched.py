@@ -10,16 +10,16 @@ The policy is called once per step on the robots whose episodes go on (:func:`ba
 analytic policies give each robot's action bit for bit as alone; the networks to the last bits
 of a matrix product), or once per robot (the planner). A policy that keeps a state between
 steps cuts it to those robots with its ``select_state(state, rows)``; one without that method
-is called on the whole batch. Through an ideal camera the rows are the scalar
-runner's: bit for bit for the analytic policies, the same successes and ends for the networks
-(the ideal-camera variants of the generalisation suites, 408 episodes per policy). Through a
-camera with imperfections the vector env projects every robot's landmarks in one batched
-root-find, which agrees with one robot's to about 1e-9: the analytic policies' rows then differ
-in the last digits (their successes did not, 808 of 808), and the networks, whose actions
-already differ in the last bits, end differently in 1 to 16 of 100 noisy episodes (both ways:
-the student's rate moved from 63 to 65 % through noise and calibration error together), as small
-differences grow along a noisy episode. Where the vector env cannot run a variant,
-:func:`batchable` says why, and the caller runs the scalar path:
+is called on the whole batch. The rows are the scalar runner's: bit for bit for the analytic
+policies, through an ideal camera or one with imperfections (the vector env projects every
+robot's landmarks in one batched root-find, which gives each point the bits it gets alone);
+for the networks, whose actions differ in the last bits of a batched matrix product, the same
+successes and ends through an ideal camera (the ideal-camera variants of the generalisation
+suites, 408 episodes per policy), while through a noisy camera 1 to 16 of 100 episodes ended
+the other way (both ways: the student's rate moved from 63 to 65 % through noise and
+calibration error together), as small differences grow along a noisy episode. Where the
+vector env cannot run a variant, :func:`batchable` says why, and the caller runs the scalar
+path:
 
 - ``measurement="detected"`` renders and detects an image per robot (no batched renderer);
 - ``physics="pymunk"``: the batched fleet shares one ``pymunk.Space``, whose solver orders
