@@ -213,26 +213,26 @@ class OmniRenderer:
         with np.errstate(divide="ignore", invalid="ignore"):
             tx = np.where(dx > 0, w - ox, -ox) / dx
             ty = np.where(dy > 0, depth - oy, -oy) / dy
-        tx[~(tx >= 0)] = np.inf  # NaN (dx = 0) and behind the ray
-        ty[~(ty >= 0)] = np.inf
+        tx = np.where(tx >= 0, tx, np.inf)  # NaN (dx = 0) and behind the ray
+        ty = np.where(ty >= 0, ty, np.inf)
         on_x = (tx <= ty) & (tx <= tz)
         on_y = ~on_x & (ty <= tz)
         t = np.where(on_x, tx, np.where(on_y, ty, tz))
         shade = np.where(on_x, _SHADE["x"], np.where(on_y, _SHADE["y"], self._flat_shade))
         shade = shade / (1.0 + 0.03 * t)  # gentle fall-off with distance
-        # the beacons: each ray's hit point, then each beacon tested against the rays that hit
-        # its wall only (a ray on the opposite wall is a room's width away from it)
-        hit_x, hit_y, hit_z = ox + t * dx, oy + t * dy, oz + t * dz
-        facing = {
-            0: np.flatnonzero(on_x & (dx < 0)),
-            1: np.flatnonzero(on_x & (dx > 0)),
-            2: np.flatnonzero(on_y & (dy < 0)),
-            3: np.flatnonzero(on_y & (dy > 0)),
-        }
-        on_wall = {
-            wall: (index, hit_x[index], hit_y[index], hit_z[index])
-            for wall, index in facing.items()
-        }
+        # the beacons: the hit points of the rays that meet a wall with beacons, then each
+        # beacon tested against its wall's rays only (the opposite wall is a room's width away)
+        on_wall = {}
+        for wall in set(scene.walls):
+            hits, along = (on_x, dx) if wall < 2 else (on_y, dy)
+            index = np.flatnonzero(hits & (along < 0 if wall % 2 == 0 else along > 0))
+            ti = t[index]
+            on_wall[wall] = (
+                index,
+                ox[index] + ti * dx[index],
+                oy[index] + ti * dy[index],
+                oz[index] + ti * dz[index],
+            )
         r2 = scene.beacon_radius**2
         for beacon, wall in zip(scene.beacons, scene.walls, strict=True):
             index, wx, wy, wz = on_wall[wall]
