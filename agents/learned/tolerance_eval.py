@@ -77,12 +77,12 @@ class ToleranceEvalCallback(EvalCallback):
     def _write(self, path: Path) -> None:
         import io
 
+        arrays: dict[str, Any] = {
+            name: np.asarray(r, dtype=np.float64) for name, r in self.tolerance_rates.items()
+        }
+        arrays["timesteps"] = np.asarray(self.tolerance_timesteps, dtype=np.int64)
         buffer = io.BytesIO()
-        np.savez(
-            buffer,
-            timesteps=np.asarray(self.tolerance_timesteps, dtype=np.int64),
-            **{name: np.asarray(r, dtype=np.float64) for name, r in self.tolerance_rates.items()},
-        )
+        np.savez(buffer, **arrays)
         write_atomic(path, buffer.getvalue())
 
 

@@ -122,7 +122,7 @@ def camera_image(
 def camera_images(
     cameras: Sequence[CatadioptricCamera],
     p_cam: Array,
-    rngs: Sequence[np.random.Generator],
+    rngs: Sequence[np.random.Generator | None],
 ) -> tuple[Array, NDArray[np.bool_]]:
     """:func:`camera_image` for ``K`` cameras at once, each with its own generator.
 
@@ -138,7 +138,7 @@ def camera_images(
     p_cam
         ``(K, N, 3)`` landmarks, row ``k`` in camera ``k``'s frame, metres.
     rngs
-        ``K`` generators (pixel noise).
+        ``K`` generators (pixel noise; ``None``: none).
 
     Returns
     -------
