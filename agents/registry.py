@@ -37,16 +37,24 @@ class Policy(Protocol):
 class RandomPolicy:
     """Uniform random actions in ``[-1, 1]^2`` (a floor for the benchmark).
 
+    Each episode draws from its own generator: the next child of the policy's seed
+    (:meth:`numpy.random.SeedSequence.spawn`), taken when the episode starts. So the ``k``-th
+    episode a policy object starts gets the same actions whether the episodes run one at a
+    time or batched (robots start in order), and whatever the lengths of the episodes before
+    it. The state :meth:`predict` returns holds the episodes' generators.
+
     Parameters
     ----------
     seed
-        Seed of the policy's own generator (the same seed, the same actions).
+        Seed of the policy's generators (the same seed, the same actions).
     """
 
     env_kwargs: dict[str, bool] = {}  # noqa: RUF012
+    #: one call serves a batch (:mod:`agents.experiments.batched`)
+    batch_mode = "batch"
 
     def __init__(self, seed: int | None = 0) -> None:
-        self.rng = np.random.default_rng(seed)
+        self._seeds = np.random.SeedSequence(seed)
 
     def __repr__(self) -> str:
         return "RandomPolicy()"
@@ -54,14 +62,50 @@ class RandomPolicy:
     def predict(
         self,
         observation: dict[str, np.ndarray],
-        state: Any = None,
+        state: list[np.random.Generator] | None = None,
         episode_start: np.ndarray | None = None,
         deterministic: bool = True,
-    ) -> tuple[np.ndarray, Any]:
-        """Random action(s), ``(2,)`` or ``(B, 2)`` float32, for one observation or a batch."""
+    ) -> tuple[np.ndarray, list[np.random.Generator]]:
+        """Random action(s), ``(2,)`` or ``(B, 2)`` float32, for one observation or a batch.
+
+        Parameters
+        ----------
+        observation
+            One observation, or a batch of ``B`` (its ``"points"`` entry tells which).
+        state
+            The generators of the episodes under way, as the last call returned them, or
+            ``None``: new episodes.
+        episode_start
+            ``(B,)`` booleans: the episodes that start now (they get new generators).
+        deterministic
+            Ignored.
+
+        Returns
+        -------
+        actions, state
+            The actions and the episodes' generators.
+        """
         points = np.asarray(observation["points"])
-        shape = (len(points), 2) if points.ndim == 2 else (2,)
-        return self.rng.uniform(-1.0, 1.0, shape).astype(np.float32), state
+        batched = points.ndim == 2
+        n = len(points) if batched else 1
+        if state is not None and len(state) != n:
+            raise ValueError(f"state holds {len(state)} episode(s) for a batch of {n}")
+        starts = (
+            np.ones(n, dtype=bool)
+            if episode_start is None or state is None
+            else np.broadcast_to(np.asarray(episode_start, dtype=bool).reshape(-1), (n,))
+        )
+        generators = list(state) if state is not None else [None] * n
+        for i in np.flatnonzero(starts).tolist():
+            generators[i] = np.random.default_rng(self._seeds.spawn(1)[0])
+        actions = np.stack([g.uniform(-1.0, 1.0, 2) for g in generators]).astype(np.float32)
+        return (actions if batched else actions[0]), generators
+
+    def select_state(
+        self, state: list[np.random.Generator], rows: np.ndarray
+    ) -> list[np.random.Generator]:
+        """Return the generators of the episodes at positions ``rows`` of the batch."""
+        return [state[i] for i in np.asarray(rows).tolist()]
 
 
 _FACTORIES: dict[str, Callable[..., Policy]] = {

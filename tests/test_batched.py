@@ -48,7 +48,7 @@ def _rows(job: jobs.Job, batched: bool, monkeypatch: pytest.MonkeyPatch) -> list
     return [{k: v for k, v in row.items() if k not in TIMING} for row in result.rows]
 
 
-@pytest.mark.parametrize("name", sorted(ANALYTIC_POLICIES))
+@pytest.mark.parametrize("name", [*sorted(ANALYTIC_POLICIES), "random"])
 def test_every_analytic_policy_gives_the_same_rows_batched_bit_for_bit(
     name: str, monkeypatch: pytest.MonkeyPatch
 ) -> None:
@@ -104,9 +104,8 @@ def test_what_is_not_batched_says_why() -> None:
         batchable("RadialIBVS/Parking-v0", {"physics": "kinematic", "measurement": "detected"})
     )
     assert "no vector env" in str(batchable("RadialIBVS/ParkingImage-v0", {}))
-    assert batch_mode(make_policy("random")) is None  # one stream of draws, in episode order
     with pytest.raises(ValueError, match="cannot be batched"):
-        run_batch(make_policy("random"), [0], "random", {"physics": "kinematic"})
+        run_batch(make_policy("ibvs"), [0], "random", {"physics": "pymunk"})
     physics = _variant("physics", "pymunk")
     job = jobs.Job("ibvs", replace(physics, episodes=1), 1)
     assert jobs.run_job(job).rows  # the scalar path runs it

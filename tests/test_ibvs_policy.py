@@ -224,6 +224,44 @@ def test_random_policy_is_seeded() -> None:
     assert a.shape == (4, 2)
 
 
+def _episode(policy: RandomPolicy, steps: int) -> np.ndarray:
+    one = {"points": np.zeros(16, np.float32)}
+    actions, state, start = [], None, np.ones(1, bool)
+    for _ in range(steps):
+        action, state = policy.predict(one, state, start)
+        actions.append(action)
+        start = np.zeros(1, bool)
+    return np.array(actions)
+
+
+def test_a_random_episode_does_not_depend_on_the_lengths_of_the_ones_before() -> None:
+    short, long = RandomPolicy(seed=5), RandomPolicy(seed=5)
+    _episode(short, 3)
+    _episode(long, 40)
+    second = _episode(short, 10)
+    np.testing.assert_array_equal(second, _episode(long, 10))
+    assert np.all(np.abs(second) <= 1.0) and len(np.unique(second)) == second.size
+
+
+def test_a_random_batch_acts_as_its_episodes_one_after_another() -> None:
+    alone = RandomPolicy(seed=2)
+    episodes = [_episode(alone, 6) for _ in range(3)]
+    batch = RandomPolicy(seed=2)
+    obs = {"points": np.zeros((3, 16), np.float32)}
+    state, start = None, np.ones(3, bool)
+    for t in range(6):
+        rows = np.arange(3) if t < 4 else np.array([0, 2])  # robot 1 ended after 4 steps
+        fed = {"points": obs["points"][rows]}
+        if t == 4:
+            state = batch.select_state(state, [0, 2])
+        actions, state = batch.predict(fed, state, start[rows])
+        start[:] = False
+        for row, action in zip(rows.tolist(), actions, strict=True):
+            np.testing.assert_array_equal(action, episodes[row][t])
+    with pytest.raises(ValueError, match="state holds 2 episode"):
+        batch.predict(obs, state, np.zeros(3, bool))
+
+
 @pytest.mark.parametrize("name", ["ibvs-current", "ibvs-mean"])
 def test_the_classic_variants_act_for_a_batch_as_for_each_robot_alone(name: str) -> None:
     """Grouped by landmarks in view, stacked pseudo-inverses: each row bit for bit."""

@@ -63,10 +63,8 @@ _MODES = {
 def batch_mode(policy: Any) -> str | None:
     """How ``policy`` runs in a batch: ``"batch"``, ``"robot"``, or ``None`` (not batched).
 
-    ``policy.batch_mode`` says so when set; else the table above. ``None`` for the others:
-    the ``random`` policy, whose one stream of draws runs through a job's episodes in order
-    (batched, the robots would share it in another order), and policies this module does not
-    know.
+    ``policy.batch_mode`` says so when set (the ``random`` policy: one generator per
+    episode); else the table above. ``None`` for the policies this module does not know.
     """
     declared = getattr(policy, "batch_mode", None)
     if declared is not None:
