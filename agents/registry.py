@@ -76,7 +76,8 @@ class RandomPolicy:
             The generators of the episodes under way, as the last call returned them, or
             ``None``: new episodes.
         episode_start
-            ``(B,)`` booleans: the episodes that start now (they get new generators).
+            ``(B,)`` booleans: the episodes that start now (they get new generators); ``None``
+            with a state: none starts.
         deterministic
             Ignored.
 
@@ -90,14 +91,13 @@ class RandomPolicy:
         n = len(points) if batched else 1
         if state is not None and len(state) != n:
             raise ValueError(f"state holds {len(state)} episode(s) for a batch of {n}")
-        starts = (
-            np.ones(n, dtype=bool)
-            if episode_start is None or state is None
-            else np.broadcast_to(np.asarray(episode_start, dtype=bool).reshape(-1), (n,))
-        )
-        generators = list(state) if state is not None else [None] * n
-        for i in np.flatnonzero(starts).tolist():
-            generators[i] = np.random.default_rng(self._seeds.spawn(1)[0])
+        if state is None:  # new episodes, whatever episode_start says
+            generators = [np.random.default_rng(s) for s in self._seeds.spawn(n)]
+        else:  # as SB3's recurrent policies: no episode_start, no episode starts
+            generators = list(state)
+            starts = np.zeros(n, dtype=bool) if episode_start is None else episode_start
+            for i in np.flatnonzero(np.broadcast_to(np.asarray(starts, bool).ravel(), (n,))):
+                generators[i] = np.random.default_rng(self._seeds.spawn(1)[0])
         actions = np.stack([g.uniform(-1.0, 1.0, 2) for g in generators]).astype(np.float32)
         return (actions if batched else actions[0]), generators
 

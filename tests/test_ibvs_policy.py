@@ -208,9 +208,15 @@ def test_registry_builds_every_contract_name_and_rejects_unknown_ones() -> None:
         obs, _ = env.reset(seed=0)
         action, state = policy.predict(obs)
         assert env.action_space.contains(action)
-        # the filters' memories and the planner's plan travel in SB3's state; the others are
-        # stateless
-        stateful = ("ibvs-straight-filtered", "planner", "planner-image-goal", "pbvs-ekf")
+        # the filters' memories, the planner's plan and random's per-episode generators travel
+        # in SB3's state; the others are stateless
+        stateful = (
+            "ibvs-straight-filtered",
+            "planner",
+            "planner-image-goal",
+            "pbvs-ekf",
+            "random",
+        )
         assert (state is not None) == (name in stateful), name
     with pytest.raises(ValueError, match="unknown policy 'ppo-nothing'"):
         make_policy("ppo-nothing")
@@ -241,6 +247,15 @@ def test_a_random_episode_does_not_depend_on_the_lengths_of_the_ones_before() ->
     second = _episode(short, 10)
     np.testing.assert_array_equal(second, _episode(long, 10))
     assert np.all(np.abs(second) <= 1.0) and len(np.unique(second)) == second.size
+
+
+def test_a_random_state_without_episode_start_goes_on_with_its_episode() -> None:
+    """As SB3's recurrent policies: with a state and no ``episode_start``, none starts."""
+    one = {"points": np.zeros(16, np.float32)}
+    policy = RandomPolicy(seed=7)
+    first, state = policy.predict(one)
+    second, _ = policy.predict(one, state)
+    np.testing.assert_array_equal(np.stack([first, second]), _episode(RandomPolicy(seed=7), 2))
 
 
 def test_a_random_batch_acts_as_its_episodes_one_after_another() -> None:

@@ -407,3 +407,87 @@ def test_the_median_grey_level_is_numpys_median(values: list[int]) -> None:
 def test_a_beacon_larger_than_the_room_is_refused() -> None:
     with pytest.raises(ValueError, match="beacon_radius"):
         RoomScene(size=(0.1, 4.0), height=2.8, beacons=np.array([[0.0, 1.0, 1.0]]))
+
+
+def _shade_every_ray_with_every_surface(
+    renderer: OmniRenderer, pose: np.ndarray, scene: RoomScene
+) -> np.ndarray:
+    """The plain renderer: every ray met with the four walls, the floor and the ceiling."""
+    x, y, yaw = (float(v) for v in pose)
+    c, s = math.cos(yaw), math.sin(yaw)
+    o, d = renderer._origins, renderer._directions
+    ox = x + c * o[:, 0] - s * o[:, 1]
+    oy = y + s * o[:, 0] + c * o[:, 1]
+    dx = c * d[:, 0] - s * d[:, 1]
+    dy = s * d[:, 0] + c * d[:, 1]
+    oz = renderer.camera_height + o[:, 2]
+    dz = d[:, 2]
+    w, depth = scene.size
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tz = np.where(dz > 0, scene.height - oz, -oz) / dz
+        tx = np.where(dx > 0, w - ox, -ox) / dx
+        ty = np.where(dy > 0, depth - oy, -oy) / dy
+    tx, ty, tz = (np.where(t >= 0, t, np.inf) for t in (tx, ty, tz))
+    on_x = (tx <= ty) & (tx <= tz)
+    on_y = ~on_x & (ty <= tz)
+    t = np.where(on_x, tx, np.where(on_y, ty, tz))
+    shade = np.where(on_x, 0.78, np.where(on_y, 0.66, renderer._flat_shade))
+    shade = shade / (1.0 + 0.03 * t)
+    hit = np.stack([ox + t * dx, oy + t * dy, oz + t * dz], axis=-1)
+    for beacon, wall in zip(scene.beacons, scene.walls, strict=True):
+        on_wall = (on_x if wall < 2 else on_y) & (
+            ((dx if wall < 2 else dy) < 0) if wall % 2 == 0 else ((dx if wall < 2 else dy) > 0)
+        )
+        near = ((hit - beacon) ** 2).sum(axis=-1) < scene.beacon_radius**2
+        shade[on_wall & near] = 0.06
+    image = renderer._background.copy().reshape(-1)
+    image[renderer._index] = shade
+    return image.reshape(renderer.size, renderer.size)
+
+
+_RENDERERS: dict[str, OmniRenderer] = {}
+
+
+def _small_renderer(kind: str) -> OmniRenderer:
+    if kind not in _RENDERERS:
+        cameras = {
+            "central": paper_camera("A"),
+            "non-central": paper_camera("B", non_central_offset=0.01),
+            "imperfect": paper_camera(
+                "A",
+                non_central_offset=-0.005,
+                imperfections=Imperfections(tilt=(0.02, -0.01), axis_offset=(0.004, -0.003)),
+            ),
+        }
+        _RENDERERS[kind] = OmniRenderer(cameras[kind], size=96, camera_height=HEIGHT)
+    return _RENDERERS[kind]
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    kind=st.sampled_from(["central", "non-central", "imperfect"]),
+    height=st.sampled_from([2.8, 1.6, 3.5]),
+    where=st.tuples(st.floats(0.0, 1.0), st.floats(0.0, 1.0)),
+    wall_gap=st.one_of(st.none(), st.integers(0, 10_000), st.floats(-1e-6, 1e-6)),
+    yaw=st.floats(-math.pi, math.pi),
+)
+def test_the_image_is_the_same_bits_as_meeting_every_ray_with_every_surface(
+    kind: str, height: float, where: tuple[float, float], wall_gap, yaw: float
+) -> None:
+    """Poses anywhere in the room, at a wall, and at a ray's floor-hit distance from a wall."""
+    renderer = _small_renderer(kind)
+    scene = RoomScene(size=ROOM, height=height, beacons=BEACONS, beacon_radius=0.15)
+    x, y = where[0] * ROOM[0], where[1] * ROOM[1]
+    if wall_gap is not None:
+        # the robot as far from the x = 0 wall as a ray's floor or ceiling hit reaches, the
+        # edge between the rays sorted out as on the floor and those met with the walls
+        reach = renderer._vertical(height).reach
+        reach = reach[np.isfinite(reach) & (reach < min(ROOM) / 2)]
+        if isinstance(wall_gap, int):
+            x = float(reach[wall_gap % len(reach)])
+        else:
+            x = float(reach[len(reach) // 2]) + wall_gap
+    pose = np.array([x, y, yaw])
+    np.testing.assert_array_equal(
+        renderer.shade(pose, scene), _shade_every_ray_with_every_surface(renderer, pose, scene)
+    )

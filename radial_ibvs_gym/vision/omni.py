@@ -5,6 +5,13 @@ mirror, central or not, with the camera's true intrinsics and imperfections), so
 once per camera; a frame then costs only the ray-room intersections: rotate and shift the rays
 by the robot's pose, intersect them with the walls, floor and ceiling, shade, and paint the
 beacons (discs on the walls). Pure numpy.
+
+A ray that meets the floor or the ceiling meets it at a point fixed in the camera frame (the
+floor and ceiling do not turn with the robot), so its shade is computed once per room height.
+A frame first sorts out those rays whose hit point lies inside the room (they meet no wall
+first: the room is convex and the ray starts inside it), then intersects only the others with
+the walls. The image is the same, bit for bit, as intersecting every ray with every surface
+(``tests/test_pixels.py`` checks it against that reference).
 """
 
 from __future__ import annotations
@@ -152,17 +159,14 @@ class OmniRenderer:
         self._origins = origins[rays]
         self._directions = directions[rays]
         self._flat_shade = np.where(self._directions[:, 2] > 0, _SHADE["ceiling"], _SHADE["floor"])
-        self._vertical_cache: tuple[float, tuple[NDArray[np.float64], ...]] | None = None
+        # how far the rays' origins reach from the camera's axis, metres
+        self._origin_reach = float(np.hypot(self._origins[:, 0], self._origins[:, 1]).max())
+        self._vertical_cache: tuple[float, _Vertical] | None = None
 
-    def _vertical(self, height: float) -> tuple[NDArray[np.float64], ...]:
-        """Ray parameter of the floor or ceiling hit, and the rays' heights (cached per room)."""
+    def _vertical(self, height: float) -> _Vertical:
+        """Return the rays' floor or ceiling hits for a room height, sorted by reach (cached)."""
         if self._vertical_cache is None or self._vertical_cache[0] != height:
-            oz = self.camera_height + self._origins[:, 2]
-            dz = self._directions[:, 2]
-            with np.errstate(divide="ignore", invalid="ignore"):
-                tz = np.where(dz > 0, height - oz, -oz) / dz
-            tz[~(tz >= 0)] = np.inf
-            self._vertical_cache = (height, (tz, oz, dz))
+            self._vertical_cache = (height, _Vertical.of(self, height))
         return self._vertical_cache[1]
 
     def sensor_to_image(self, uv: ArrayLike) -> NDArray[np.float64]:
@@ -198,50 +202,169 @@ class OmniRenderer:
         numpy.ndarray
             ``(size, size)`` uint8 grey image.
         """
+        return _finish(self.shade(pose, scene), quality or ImageQuality(), rng)
+
+    def shade(self, pose: ArrayLike, scene: RoomScene) -> NDArray[np.float64]:
+        """Compute the perfect image's grey levels from a pose, before exposure and quantising.
+
+        Parameters
+        ----------
+        pose
+            ``(3,)`` robot pose ``(x, y, yaw)``, metres and radians.
+        scene
+            The room.
+
+        Returns
+        -------
+        numpy.ndarray
+            ``(size, size)`` grey levels in ``[0, 1]``.
+        """
         p = as_float_array(pose, "pose")
         check_last_dim(p, 3, "pose")
         check_finite(p, "pose")
         x, y, yaw = (float(v) for v in p)
         c, s = math.cos(yaw), math.sin(yaw)
-        o, d = self._origins, self._directions
-        ox = x + c * o[:, 0] - s * o[:, 1]
-        oy = y + s * o[:, 0] + c * o[:, 1]
-        dx = c * d[:, 0] - s * d[:, 1]
-        dy = s * d[:, 0] + c * d[:, 1]
-        tz, oz, dz = self._vertical(scene.height)  # the floor and ceiling do not turn
+        v = self._vertical(scene.height)
         w, depth = scene.size
-        with np.errstate(divide="ignore", invalid="ignore"):
-            tx = np.where(dx > 0, w - ox, -ox) / dx
-            ty = np.where(dy > 0, depth - oy, -oy) / dy
-        tx = np.where(tx >= 0, tx, np.inf)  # NaN (dx = 0) and behind the ray
-        ty = np.where(ty >= 0, ty, np.inf)
-        on_x = (tx <= ty) & (tx <= tz)
-        on_y = ~on_x & (ty <= tz)
-        t = np.where(on_x, tx, np.where(on_y, ty, tz))
-        shade = np.where(on_x, _SHADE["x"], np.where(on_y, _SHADE["y"], self._flat_shade))
-        shade = shade / (1.0 + 0.03 * t)  # gentle fall-off with distance
-        # the beacons: the hit points of the rays that meet a wall with beacons, then each
-        # beacon tested against its wall's rays only (the opposite wall is a room's width away)
-        on_wall = {}
-        for wall in set(scene.walls):
-            hits, along = (on_x, dx) if wall < 2 else (on_y, dy)
-            index = np.flatnonzero(hits & (along < 0 if wall % 2 == 0 else along > 0))
-            ti = t[index]
-            on_wall[wall] = (
-                index,
-                ox[index] + ti * dx[index],
-                oy[index] + ti * dy[index],
-                oz[index] + ti * dz[index],
-            )
-        r2 = scene.beacon_radius**2
-        for beacon, wall in zip(scene.beacons, scene.walls, strict=True):
-            index, wx, wy, wz = on_wall[wall]
-            hx, hy, hz = wx - beacon[0], wy - beacon[1], wz - beacon[2]
-            shade[index[hx * hx + hy * hy + hz * hz < r2]] = _BEACON
         image = self._background.copy().reshape(-1)
-        image[self._index] = shade
-        image = image.reshape(self.size, self.size)
-        return _finish(image, quality or ImageQuality(), rng)
+        # the rays whose floor or ceiling hit is nearer the camera's axis than any wall meet
+        # no wall first, whatever the heading (the room is convex and the rays start in it)
+        inner = min(x, w - x, y, depth - y) - _MARGIN
+        k = int(np.searchsorted(v.reach, inner)) if inner > self._origin_reach else 0
+        image[v.index[:k]] = v.shade[:k]
+        image[v.index[k:]] = _shade(v, k, x, y, c, s, scene)
+        return image.reshape(self.size, self.size)
+
+
+#: metres: a floor hit this much nearer than the walls is on the floor, in every rounding
+_MARGIN = 1e-6
+
+
+@dataclass(frozen=True)
+class _Vertical:
+    """Every ray's floor or ceiling hit for one room height, the rays sorted by its reach.
+
+    All arrays are ``(R,)``, one entry per ray, sorted by ``reach``.
+
+    Attributes
+    ----------
+    index
+        Flat image index of each ray.
+    ox, oy, dx, dy, dz
+        The rays' origins (relative to the camera) and directions in the camera frame, metres.
+    tz, oz
+        Ray parameter of the floor or ceiling hit (inf: none) and the origins' heights above
+        the floor, metres.
+    flat_shade
+        Grey level of the floor or ceiling each ray would meet.
+    reach
+        Distance of the hit from the camera's axis, metres (inf where the ray meets neither).
+    shade
+        The shade of the hit, with the fall-off with distance.
+    """
+
+    index: NDArray[np.intp]
+    ox: NDArray[np.float64]
+    oy: NDArray[np.float64]
+    dx: NDArray[np.float64]
+    dy: NDArray[np.float64]
+    dz: NDArray[np.float64]
+    tz: NDArray[np.float64]
+    oz: NDArray[np.float64]
+    flat_shade: NDArray[np.float64]
+    reach: NDArray[np.float64]
+    shade: NDArray[np.float64]
+
+    @classmethod
+    def of(cls, renderer: OmniRenderer, height: float) -> _Vertical:
+        """Compute the hits of ``renderer``'s rays in a room ``height`` metres high."""
+        o, d = renderer._origins, renderer._directions
+        oz = renderer.camera_height + o[:, 2]
+        dz = d[:, 2]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            tz = np.where(dz > 0, height - oz, -oz) / dz
+        tz[~(tz >= 0)] = np.inf
+        finite = np.isfinite(tz)
+        with np.errstate(invalid="ignore"):
+            reach = np.hypot(o[:, 0] + tz * d[:, 0], o[:, 1] + tz * d[:, 1])
+        reach[~(finite & np.isfinite(reach))] = np.inf
+        order = np.argsort(reach, kind="stable")
+        flat = renderer._flat_shade
+        return cls(
+            index=renderer._index[order],
+            ox=o[order, 0],
+            oy=o[order, 1],
+            dx=d[order, 0],
+            dy=d[order, 1],
+            dz=dz[order],
+            tz=tz[order],
+            oz=oz[order],
+            flat_shade=flat[order],
+            reach=reach[order],
+            shade=(flat / (1.0 + 0.03 * tz))[order],
+        )
+
+
+def _shade(
+    v: _Vertical, k: int, x: float, y: float, c: float, s: float, scene: RoomScene
+) -> NDArray[np.float64]:
+    """Shade ``(R - k,)`` of the rays from the ``k``-th on: each met with every surface.
+
+    The first surface along a ray is the one of least ray parameter (ties: the ``x`` walls,
+    then the ``y`` walls, then the floor or ceiling); each step below gives the same bits as
+    the plain formulas in the comments.
+    """
+    o0, o1, d0, d1 = v.ox[k:], v.oy[k:], v.dx[k:], v.dy[k:]
+    ox = c * o0
+    ox += x
+    ox -= s * o1  # x + c o0 - s o1, in that order
+    oy = s * o0
+    oy += y
+    oy += c * o1  # y + s o0 + c o1
+    dx = c * d0
+    dx -= s * d1
+    dy = s * d0
+    dy += c * d1
+    tz = v.tz[k:]  # the floor and ceiling do not turn
+    w, depth = scene.size
+    with np.errstate(divide="ignore", invalid="ignore"):
+        tx = np.negative(ox)
+        np.add(tx, w, out=tx, where=dx > 0)  # where(dx > 0, w - ox, -ox)
+        tx /= dx
+        ty = np.negative(oy)
+        np.add(ty, depth, out=ty, where=dy > 0)
+        ty /= dy
+    tx[~(tx >= 0)] = np.inf  # NaN (dx = 0) and behind the ray
+    ty[~(ty >= 0)] = np.inf
+    t = np.minimum(tx, ty)
+    np.minimum(t, tz, out=t)
+    on_x = tx == t  # tx <= ty and tx <= tz
+    on_y = ty == t
+    on_y &= ~on_x
+    shade = np.where(on_x, _SHADE["x"], np.where(on_y, _SHADE["y"], v.flat_shade[k:]))
+    fall = 0.03 * t
+    fall += 1.0
+    shade /= fall  # gentle fall-off with distance
+    # the beacons: the hit points of the rays that meet a wall with beacons, then each
+    # beacon tested against its wall's rays only (the opposite wall is a room's width away)
+    oz, dz = v.oz[k:], v.dz[k:]
+    on_wall = {}
+    for wall in set(scene.walls):
+        hits, along = (on_x, dx) if wall < 2 else (on_y, dy)
+        index = np.flatnonzero(hits & (along < 0 if wall % 2 == 0 else along > 0))
+        ti = t[index]
+        on_wall[wall] = (
+            index,
+            ox[index] + ti * dx[index],
+            oy[index] + ti * dy[index],
+            oz[index] + ti * dz[index],
+        )
+    r2 = scene.beacon_radius**2
+    for beacon, wall in zip(scene.beacons, scene.walls, strict=True):
+        index, wx, wy, wz = on_wall[wall]
+        hx, hy, hz = wx - beacon[0], wy - beacon[1], wz - beacon[2]
+        shade[index[hx * hx + hy * hy + hz * hz < r2]] = _BEACON
+    return shade
 
 
 def _finish(
