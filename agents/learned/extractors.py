@@ -125,31 +125,58 @@ class ErrorScaleExtractor(BaseFeaturesExtractor):
             else:
                 size += n + 1 if n > 1 else 2
         super().__init__(observation_space, features_dim=size)
-        self._keys = list(observation_space.spaces)
+        # each key's treatment, decided once: raw, an error vector, an angle or a scalar error
+        self._plan = []
+        for key, space in observation_space.spaces.items():
+            if error_key_of(key, self.error_keys) is None:
+                kind = "raw"
+            elif int(np.prod(space.shape or ())) > 1:
+                kind = "vector"
+            elif error_key_of(key, self.angle_keys) is not None:
+                kind = "angle"
+            else:
+                kind = "scalar"
+            self._plan.append((key, kind))
 
     def forward(self, observations: dict[str, torch.Tensor]) -> torch.Tensor:
         """Return the ``(B, features_dim)`` features."""
+        return self._features(observations, None)
+
+    @staticmethod
+    def _seen(observations: dict[str, torch.Tensor], visible: str = "visible") -> torch.Tensor:
+        """Return ``(B, N)`` bools: the landmarks seen now and in the goal image."""
+        goal = observations["goal_points"].float()
+        goal = goal.reshape(goal.shape[0], -1, 2)
+        # torch.linalg.vector_norm: what Tensor.norm calls, without its Python wrapper
+        near = torch.linalg.vector_norm(goal, dim=2) > 0.5
+        return near & (observations[visible].float() > 0.5)
+
+    def _features(
+        self, observations: dict[str, torch.Tensor], seen: torch.Tensor | None
+    ) -> torch.Tensor:
+        """Return the features, given :meth:`_seen` where a subclass computed it already."""
         parts: list[torch.Tensor] = []
+        eps = self.eps
         if self.point_error:
             now = observations["points"].float().flatten(start_dim=1)
             goal = observations["goal_points"].float().flatten(start_dim=1)
             b = now.shape[0]
-            seen = (goal.reshape(b, -1, 2).norm(dim=2) > 0.5) & (observations["visible"] > 0.5)
+            seen = self._seen(observations) if seen is None else seen
             error = ((now - goal).reshape(b, -1, 2) * seen[..., None]).reshape(b, -1)
-            size = torch.linalg.vector_norm(error, dim=1, keepdim=True)
-            parts += [error / (size + self.eps), torch.log(size + self.eps)]
-        for key in self._keys:
+            size = torch.linalg.vector_norm(error, dim=1, keepdim=True) + eps
+            parts += [error / size, torch.log(size)]
+        for key, kind in self._plan:
             value = observations[key].float().flatten(start_dim=1)
-            if error_key_of(key, self.error_keys) is None:
+            if kind == "raw":
                 parts.append(value)
-            elif value.shape[1] > 1:
-                size = torch.linalg.vector_norm(value, dim=1, keepdim=True)
-                parts += [value / (size + self.eps), torch.log(size + self.eps)]
-            elif error_key_of(key, self.angle_keys) is not None:
+            elif kind == "vector":
+                size = torch.linalg.vector_norm(value, dim=1, keepdim=True) + eps
+                parts += [value / size, torch.log(size)]
+            elif kind == "angle":
                 sin, cos = torch.sin(value), torch.cos(value)
-                parts += [sin, cos, sin / (sin.abs() + self.eps) * (1.0 + cos) / 2.0]
+                parts += [sin, cos, sin / (sin.abs() + eps) * (1.0 + cos) / 2.0]
             else:
-                parts += [value, value / (value.abs() + self.eps)]
+                parts += [value, value / (value.abs() + eps)]
         return torch.cat(parts, dim=1)
 
     def extra_repr(self) -> str:
@@ -222,34 +249,46 @@ class LandmarkSetExtractor(ErrorScaleExtractor):
 
     def tokens(self, observations: dict[str, torch.Tensor]) -> tuple[torch.Tensor, torch.Tensor]:
         """Return the tokens ``(B, N, 14)`` and the mask of landmarks seen ``(B, N)``."""
+        return self._tokens(observations, self._seen(observations))
+
+    def _tokens(
+        self, observations: dict[str, torch.Tensor], seen: torch.Tensor
+    ) -> tuple[torch.Tensor, torch.Tensor]:
         b = observations["points"].shape[0]
         now = observations["points"].float().reshape(b, -1, 2)
         goal = observations["goal_points"].float().reshape(b, -1, 2)
         depth = observations["goal_depths"].float().reshape(b, -1)
-        seen = (goal.norm(dim=2) > 0.5) & (observations["visible"].float() > 0.5)
         mask = seen.float()
-        error = (now - goal) * mask[..., None]
+        mask3 = mask[..., None]
+        error = (now - goal) * mask3
         size = torch.linalg.vector_norm(error.reshape(b, -1), dim=1)[:, None, None]
-        p = depth[..., None] * goal
+        depth3 = depth[..., None]
+        p = depth3 * goal
+        n0, n1 = now[..., :1], now[..., 1:]
         dot = (p * now).sum(dim=2, keepdim=True)
-        cross = p[..., :1] * now[..., 1:] - p[..., 1:] * now[..., :1]
+        cross = p[..., :1] * n1 - p[..., 1:] * n0
         cos = (goal * now).sum(dim=2, keepdim=True)
-        sin = goal[..., :1] * now[..., 1:] - goal[..., 1:] * now[..., :1]
-        inverse = torch.where(depth > 0, 1.0 / depth.clamp_min(1e-3), 0.0)[..., None]
-        parts = [now, goal, depth[..., None], inverse, error / (size + self.eps), p, dot, cross]
+        sin = goal[..., :1] * n1 - goal[..., 1:] * n0
+        inverse = torch.where(depth3 > 0, 1.0 / depth3.clamp_min(1e-3), 0.0)
+        parts = [now, goal, depth3, inverse, error / (size + self.eps), p, dot, cross]
         token = torch.cat([*parts, cos, sin], dim=2)
-        return token * mask[..., None], mask
+        return token * mask3, mask
 
     def forward(self, observations: dict[str, torch.Tensor]) -> torch.Tensor:
         """Return the ``(B, features_dim)`` features."""
-        token, mask = self.tokens(observations)
+        return self._set_features(observations, self._seen(observations))
+
+    def _set_features(
+        self, observations: dict[str, torch.Tensor], seen: torch.Tensor
+    ) -> torch.Tensor:
+        token, mask = self._tokens(observations, seen)
         encoded = self.phi(token) * mask[..., None]
         count = mask.sum(dim=1, keepdim=True)
         mean = encoded.sum(dim=1) / count.clamp_min(1.0)
         # encodings are >= 0 (ReLU), so masked slots at 0 never win the max
-        peak = encoded.max(dim=1).values
+        peak = encoded.amax(dim=1)
         share = count / mask.shape[1]
-        return torch.cat([super().forward(observations), mean, peak, share], dim=1)
+        return torch.cat([self._features(observations, seen), mean, peak, share], dim=1)
 
     def extra_repr(self) -> str:
         """Return the settings, for ``print(policy)``."""
@@ -316,12 +355,13 @@ class LandmarkPoseExtractor(LandmarkSetExtractor):
         b = observations["points"].shape[0]
         goal = observations["goal_points"].float().reshape(b, -1, 2)
         depth = observations["goal_depths"].float().reshape(b, -1)
+        seen_now = self._seen(observations)
         poses = []
         for points, visible in self._frames:
             now = observations[points].float().reshape(b, -1, 2)
-            seen = (goal.norm(dim=2) > 0.5) & (observations[visible].float() > 0.5)
+            seen = seen_now if visible == "visible" else self._seen(observations, visible)
             poses.append(goal_pose_features(now, goal, depth, seen.float(), self.pose_eps))
-        return torch.cat([super().forward(observations), *poses], dim=1)
+        return torch.cat([self._set_features(observations, seen_now), *poses], dim=1)
 
     def extra_repr(self) -> str:
         """Return the settings, for ``print(policy)``."""

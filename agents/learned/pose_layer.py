@@ -1,4 +1,4 @@
-"""The goal's pose from one radial image, solved in closed form (torch, no parameters).
+"""The goal's pose from one radial image, solved in closed form (no parameters), for networks.
 
 A radial camera (central or not) with a vertical mirror axis gives, for each landmark, its
 horizontal bearing ``x_n`` (a point on the unit circle, eq. 9): the radial line through the
@@ -21,6 +21,11 @@ through both camera centres, or, with exactly three, a robot on the circle throu
 "danger circle" of planar three-point resection, where every point of the arc sees the
 landmarks under the same angles). This is a perception layer, as the features ``c_ij`` are:
 it turns what the image shows into a pose; what to do from there is the network's to learn.
+
+The solve is :func:`radial_ibvs_gym.geometry.bearing_pose.solve_goal_pose` (numpy), which
+PBVS uses too: one implementation. It has no parameters and no gradient, so it runs on the
+tensors' values (taken to the CPU and back to their device); in numpy, one robot's solve
+costs a fraction of what the same few dozen small torch operations cost.
 """
 
 from __future__ import annotations
@@ -57,31 +62,18 @@ def solve_goal_pose(now: Any, goal: Any, depth: Any, mask: Any) -> tuple[Any, An
     """
     import torch
 
-    with torch.no_grad():
-        x = now.double()
-        g = goal.double()
-        d = depth.double().clamp_min(1e-3)
-        w = mask.double()
-        cross = x[..., 0] * g[..., 1] - x[..., 1] * g[..., 0]  # (x_n x p_n) / d*
-        dot = (x * g).sum(dim=-1)  # (x_n . p_n) / d*
-        rows = torch.stack([cross, dot, -x[..., 1] / d, x[..., 0] / d], dim=-1) * w[..., None]
-        gram = rows.transpose(-1, -2) @ rows  # (B, 4, 4)
-        values, vectors = torch.linalg.eigh(gram)
-        z = vectors[..., 0]
-        scale = torch.linalg.vector_norm(z[..., :2], dim=-1)
-        z = z / scale.clamp_min(1e-12)[..., None]
-        c, s, tx, ty = z.unbind(dim=-1)
-        p = d[..., None] * g
-        qx = c[..., None] * p[..., 0] - s[..., None] * p[..., 1] + tx[..., None]
-        qy = s[..., None] * p[..., 0] + c[..., None] * p[..., 1] + ty[..., None]
-        front = ((x[..., 0] * qx + x[..., 1] * qy) * w).sum(dim=-1)
-        z = torch.where((front < 0)[..., None], -z, z)
-        # unique: a clear gap between the least eigenvalue and the next (3 landmarks or more
-        # not all on one line through both camera centres)
-        gap = values[..., 1] > 1e-9 * values[..., 3].clamp_min(1e-30)
-        valid = (w.sum(dim=-1) >= 3) & (scale > 1e-6) & gap & torch.isfinite(z).all(dim=-1)
-        z = torch.where(valid[..., None], z, torch.zeros_like(z))
-        return torch.stack([z[..., 2], z[..., 3], z[..., 0], z[..., 1]], dim=-1), valid
+    pose, valid = _solve(now, goal, depth, mask)
+    return torch.from_numpy(pose).to(now.device), torch.from_numpy(valid).to(now.device)
+
+
+def _solve(now: Any, goal: Any, depth: Any, mask: Any) -> tuple[Any, Any]:
+    """Solve from the tensors' values in numpy: ``(B, 4)`` pose and ``(B,)`` valid."""
+    from radial_ibvs_gym.geometry.bearing_pose import solve_goal_pose as solve
+
+    def values(t: Any) -> Any:
+        return t.detach().cpu().numpy()
+
+    return solve(values(now), values(goal), values(depth), values(mask) > 0.5)
 
 
 def goal_pose_features(now: Any, goal: Any, depth: Any, mask: Any, eps: float = 1e-3) -> Any:
@@ -95,14 +87,16 @@ def goal_pose_features(now: Any, goal: Any, depth: Any, mask: Any, eps: float = 
     ``cos theta`` and the soft sign ``sin / (|sin| + eps) (1 + cos) / 2``; and the validity
     flag. All but the flag are zero where the pose is not valid.
     """
+    import numpy as np
     import torch
 
-    pose, valid = solve_goal_pose(now, goal, depth, mask)
-    t, c, s = pose[..., :2], pose[..., 2], pose[..., 3]
-    size = torch.linalg.vector_norm(t, dim=-1, keepdim=True)
-    r = torch.stack([-(c * t[..., 0] + s * t[..., 1]), s * t[..., 0] - c * t[..., 1]], dim=-1)
-    turn = (s / (s.abs() + eps) * (1.0 + c) / 2.0)[..., None]
-    flag = valid.double()[..., None]
-    parts = [t, t / (size + eps), torch.log(size + eps), r, r / (r.abs() + eps)]
-    out = torch.cat([*parts, s[..., None], c[..., None], turn], dim=-1) * flag
-    return torch.cat([out, flag], dim=-1).float()
+    pose, valid = _solve(now, goal, depth, mask)
+    t, c, s = pose[..., :2], pose[..., 2:3], pose[..., 3:4]
+    size = np.linalg.norm(t, axis=-1, keepdims=True) + eps
+    t0, t1 = t[..., :1], t[..., 1:]
+    r = np.concatenate([-(c * t0 + s * t1), s * t0 - c * t1], axis=-1)
+    turn = s / (np.abs(s) + eps) * (1.0 + c) / 2.0
+    flag = valid[..., None].astype(np.float64)
+    parts = [t, t / size, np.log(size), r, r / (np.abs(r) + eps), s, c, turn]
+    out = np.concatenate([np.concatenate(parts, axis=-1) * flag, flag], axis=-1)
+    return torch.from_numpy(out.astype(np.float32)).to(now.device)

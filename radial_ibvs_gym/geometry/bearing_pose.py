@@ -42,26 +42,28 @@ def solve_goal_pose(
     valid : numpy.ndarray
         ``(...,)`` bool: at least three landmarks seen and a unique solution.
     """
+    # written for few numpy operations (a robot's solve is mostly their fixed costs): each
+    # slice taken once, the same arithmetic in the same order as the formulas above
     x = np.asarray(now, dtype=np.float64)
     g = np.asarray(goal, dtype=np.float64)
     d = np.maximum(np.asarray(depth, dtype=np.float64), 1e-3)
     w = np.asarray(mask, dtype=np.float64)
-    cross = x[..., 0] * g[..., 1] - x[..., 1] * g[..., 0]
-    dot = (x * g).sum(axis=-1)
-    rows = np.stack([cross, dot, -x[..., 1] / d, x[..., 0] / d], axis=-1) * w[..., None]
+    x0, x1, g0, g1 = x[..., 0], x[..., 1], g[..., 0], g[..., 1]
+    dot = x0 * g0
+    dot += x1 * g1  # (x * g).sum(-1)
+    rows = np.stack([x0 * g1 - x1 * g0, dot, -x1 / d, x0 / d], axis=-1)
+    rows *= w[..., None]
     gram = np.swapaxes(rows, -1, -2) @ rows
     values, vectors = np.linalg.eigh(gram)
-    z = vectors[..., 0]
-    scale = np.linalg.norm(z[..., :2], axis=-1)
-    with np.errstate(invalid="ignore", divide="ignore"):
-        z = z / np.maximum(scale, 1e-12)[..., None]
-    c, s, tx, ty = np.moveaxis(z, -1, 0)
-    p = d[..., None] * g
-    qx = c[..., None] * p[..., 0] - s[..., None] * p[..., 1] + tx[..., None]
-    qy = s[..., None] * p[..., 0] + c[..., None] * p[..., 1] + ty[..., None]
-    front = ((x[..., 0] * qx + x[..., 1] * qy) * w).sum(axis=-1)
+    z0, z1 = vectors[..., 0, 0], vectors[..., 1, 0]
+    scale = np.sqrt(z0 * z0 + z1 * z1)  # numpy's norm of (z0, z1)
+    z = vectors[..., 0] / np.maximum(scale, 1e-12)[..., None]
+    c, s, tx, ty = z[..., 0:1], z[..., 1:2], z[..., 2:3], z[..., 3:4]
+    p0, p1 = d * g0, d * g1
+    qx = c * p0 - s * p1 + tx
+    qy = s * p0 + c * p1 + ty
+    front = ((x0 * qx + x1 * qy) * w).sum(axis=-1)
     z = np.where((front < 0)[..., None], -z, z)
     gap = values[..., 1] > 1e-9 * np.maximum(values[..., 3], 1e-30)
     valid = (w.sum(axis=-1) >= 3) & (scale > 1e-6) & gap & np.isfinite(z).all(axis=-1)
-    z = np.where(valid[..., None], z, 0.0)
-    return np.stack([z[..., 2], z[..., 3], z[..., 0], z[..., 1]], axis=-1), valid
+    return np.where(valid[..., None], z[..., [2, 3, 0, 1]], 0.0), valid
