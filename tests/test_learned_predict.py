@@ -77,3 +77,20 @@ def test_a_wrongly_shaped_observation_gets_stable_baselines3s_error() -> None:
     bad = {**obs, "points": np.zeros(7, np.float32)}
     with pytest.raises(ValueError):
         policy.predict(bad)
+
+
+def test_a_policy_that_changes_the_actors_path_goes_through_stable_baselines3() -> None:
+    """A subclass with its own distribution (a recurrent policy's memory, say) is not bypassed."""
+    policy = load("dagger-student")
+    base = type(policy.model)
+
+    class Custom(base):  # type: ignore[misc, valid-type]
+        def get_distribution(self, obs):  # type: ignore[no-untyped-def]
+            return super().get_distribution(obs)
+
+    policy.model.__class__ = Custom
+    assert policy._fast_path() is None
+    obs = _observations(policy, 1, seed=0)[0]
+    action, _ = policy.predict(obs)
+    sb3, _ = policy.model.predict(policy._normalise(obs), deterministic=True)
+    np.testing.assert_array_equal(action, np.asarray(sb3, dtype=np.float32))

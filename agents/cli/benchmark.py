@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import importlib.util
+import os
 import shutil
 from pathlib import Path
 from typing import Any
@@ -112,6 +113,9 @@ def policies_to_run(
 
 def run(args: argparse.Namespace) -> int:
     """Run ``radial-ibvs benchmark``; returns the exit code."""
+    # the workers, spawned from here, share the cores: one BLAS thread each (read when they
+    # load numpy and torch; numpy here keeps its threads)
+    os.environ.setdefault("OMP_NUM_THREADS", "1")
     from rich.console import Console
 
     from agents import POLICY_NAMES

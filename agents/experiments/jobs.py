@@ -52,10 +52,18 @@ class JobResult:
 
 
 def init_worker() -> None:
-    """One torch thread per worker process: the workers already share the cores."""
+    """One thread per worker process for torch and OpenCV: the workers already share the cores.
+
+    OpenCV's own threads (the detected-points suites' connected components, blur and
+    dilations) would otherwise compete with the other workers for the same cores (the rows
+    are the same either way). ``radial-ibvs benchmark`` also starts its workers with
+    ``OMP_NUM_THREADS=1`` unless it is set, for numpy's BLAS.
+    """
+    import cv2
     import torch
 
     torch.set_num_threads(1)
+    cv2.setNumThreads(1)
 
 
 def run_job(job: Job) -> JobResult:

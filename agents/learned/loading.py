@@ -183,36 +183,40 @@ class LearnedPolicy:
         """Return the SB3 policy and its actor's layers as functions, if the fast path fits.
 
         It fits a Gaussian actor-critic policy (PPO, A2C) on a ``Dict`` of ``Box`` spaces,
-        on the CPU, whose actor is a plain stack of linear layers and activations.
+        on the CPU, whose actor is a plain stack of linear layers and activations (not a
+        recurrent one: its memory is in SB3's state).
         """
         policy = getattr(self.model, "policy", self.model)
-        cached = getattr(self, "_fast", None)
-        if cached is not None and cached[0] is policy:
-            return cached[1]
-        self._fast = (policy, _actor_layers(policy))
-        if self._fast[1] is not None:
-            policy.set_training_mode(False)
-        return self._fast[1]
+        cached: tuple[Any, list[Any] | None] | None = getattr(self, "_fast", None)
+        if cached is None or cached[0] is not policy:
+            cached = self._fast = (policy, _actor_layers(policy))
+            if cached[1] is not None:
+                policy.set_training_mode(False)
+        return None if cached[1] is None else (policy, cached[1])
 
 
-def _actor_layers(policy: Any) -> tuple[Any, list[Any]] | None:
-    """``(policy, layers)`` for :meth:`LearnedPolicy._mean_action`, or ``None``."""
+def _actor_layers(policy: Any) -> list[Any] | None:
+    """Return the actor's layers and the action net as functions, or ``None`` (no fit)."""
     import torch
     from gymnasium import spaces
     from stable_baselines3.common.distributions import DiagGaussianDistribution
     from stable_baselines3.common.policies import ActorCriticPolicy
     from stable_baselines3.common.torch_layers import MlpExtractor
 
+    plain = isinstance(policy, ActorCriticPolicy) and all(
+        getattr(type(policy), name) is getattr(ActorCriticPolicy, name)
+        for name in ("_predict", "get_distribution", "extract_features")
+    )
     fits = (
-        isinstance(policy, ActorCriticPolicy)
+        plain
         and isinstance(policy.action_dist, DiagGaussianDistribution)
         and not policy.squash_output
         and isinstance(policy.observation_space, spaces.Dict)
         and all(isinstance(s, spaces.Box) for s in policy.observation_space.spaces.values())
         and isinstance(policy.action_space, spaces.Box)
-        and isinstance(policy.mlp_extractor, MlpExtractor)
+        and type(policy.mlp_extractor) is MlpExtractor
         and isinstance(policy.mlp_extractor.policy_net, torch.nn.Sequential)
-        and isinstance(policy.action_net, torch.nn.Linear)
+        and type(policy.action_net) is torch.nn.Linear
         and str(policy.device) == "cpu"
     )
     if not fits:
@@ -226,7 +230,7 @@ def _actor_layers(policy: Any) -> tuple[Any, list[Any]] | None:
             layers.append(functions[type(module)])
         else:
             return None
-    return policy, layers
+    return layers
 
 
 def _linear(module: Any) -> Any:
