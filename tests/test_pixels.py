@@ -491,3 +491,38 @@ def test_the_image_is_the_same_bits_as_meeting_every_ray_with_every_surface(
     np.testing.assert_array_equal(
         renderer.shade(pose, scene), _shade_every_ray_with_every_surface(renderer, pose, scene)
     )
+
+
+@settings(max_examples=40, deadline=None)
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    shape=st.tuples(st.integers(1, 70), st.integers(1, 70)),
+    density=st.floats(0.0, 1.0),
+)
+def test_the_block_labelling_gives_opencvs_default_labels_and_statistics(
+    seed: int, shape: tuple[int, int], density: float
+) -> None:
+    import cv2
+
+    from radial_ibvs_gym.vision.detect import _LABELLING
+
+    dark = (np.random.default_rng(seed).random(shape) < density).astype(np.uint8)
+    default = cv2.connectedComponentsWithStats(dark, connectivity=8)
+    used = cv2.connectedComponentsWithStatsWithAlgorithm(dark, 8, cv2.CV_32S, _LABELLING)
+    assert default[0] == used[0]
+    for a, b in zip(default[1:], used[1:], strict=True):
+        np.testing.assert_array_equal(a, b)
+
+
+@settings(max_examples=60, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1), side=st.integers(1, 40), share=st.floats(0.01, 1.0))
+def test_the_masked_median_is_numpys_median_of_the_masked_pixels(
+    seed: int, side: int, share: float
+) -> None:
+    from radial_ibvs_gym.vision.detect import _median_in
+
+    rng = np.random.default_rng(seed)
+    image = rng.integers(0, 256, (side, side + 3), dtype=np.uint8)
+    mask = rng.random(image.shape) < share
+    mask.flat[rng.integers(mask.size)] = True  # at least one pixel
+    assert _median_in(image, mask.astype(np.uint8)) == float(np.median(image[mask]))

@@ -226,12 +226,12 @@ class OmniRenderer:
         c, s = math.cos(yaw), math.sin(yaw)
         v = self._vertical(scene.height)
         w, depth = scene.size
-        image = self._background.copy().reshape(-1)
         # the rays whose floor or ceiling hit is nearer the camera's axis than any wall meet
-        # no wall first, whatever the heading (the room is convex and the rays start in it)
+        # no wall first, whatever the heading (the room is convex and the rays start in it):
+        # they keep the floor or ceiling shade of v.image
         inner = min(x, w - x, y, depth - y) - _MARGIN
         k = int(np.searchsorted(v.reach, inner)) if inner > self._origin_reach else 0
-        image[v.index[:k]] = v.shade[:k]
+        image = v.image.copy()
         image[v.index[k:]] = _shade(v, k, x, y, c, s, scene)
         return image.reshape(self.size, self.size)
 
@@ -244,7 +244,7 @@ _MARGIN = 1e-6
 class _Vertical:
     """Every ray's floor or ceiling hit for one room height, the rays sorted by its reach.
 
-    All arrays are ``(R,)``, one entry per ray, sorted by ``reach``.
+    The arrays but ``image`` are ``(R,)``, one entry per ray, sorted by ``reach``.
 
     Attributes
     ----------
@@ -259,8 +259,9 @@ class _Vertical:
         Grey level of the floor or ceiling each ray would meet.
     reach
         Distance of the hit from the camera's axis, metres (inf where the ray meets neither).
-    shade
-        The shade of the hit, with the fall-off with distance.
+    image
+        ``(size * size,)`` the background with every ray's floor or ceiling hit shaded (with
+        the fall-off with distance; black where a ray meets neither).
     """
 
     index: NDArray[np.intp]
@@ -273,7 +274,7 @@ class _Vertical:
     oz: NDArray[np.float64]
     flat_shade: NDArray[np.float64]
     reach: NDArray[np.float64]
-    shade: NDArray[np.float64]
+    image: NDArray[np.float64]
 
     @classmethod
     def of(cls, renderer: OmniRenderer, height: float) -> _Vertical:
@@ -290,6 +291,8 @@ class _Vertical:
         reach[~(finite & np.isfinite(reach))] = np.inf
         order = np.argsort(reach, kind="stable")
         flat = renderer._flat_shade
+        image = renderer._background.copy().reshape(-1)
+        image[renderer._index] = flat / (1.0 + 0.03 * tz)
         return cls(
             index=renderer._index[order],
             ox=o[order, 0],
@@ -301,7 +304,7 @@ class _Vertical:
             oz=oz[order],
             flat_shade=flat[order],
             reach=reach[order],
-            shade=(flat / (1.0 + 0.03 * tz))[order],
+            image=image,
         )
 
 
@@ -380,4 +383,6 @@ def _finish(
         if rng is None:
             raise ValueError("sensor noise needs a random generator (rng)")
         out = out + rng.normal(0.0, quality.noise_std, out.shape)
-    return np.clip(np.rint(out), 0, 255).astype(np.uint8)
+    np.rint(out, out=out)
+    np.clip(out, 0, 255, out=out)
+    return out.astype(np.uint8)
