@@ -140,107 +140,30 @@ class LearnedPolicy:
         return np.asarray(action, dtype=np.float32), state
 
     def _mean_action(self, observation: dict[str, np.ndarray]) -> np.ndarray | None:
-        """Return the deterministic action of a Gaussian actor-critic policy, or ``None``.
+        """Return SB3's deterministic action by :func:`~agents.learned.mean_action.mean_action`.
 
-        The same operations as stable-baselines3's ``predict`` (the features, the actor's
-        latent, the action net's mean, clipped to the action space), in inference mode and
-        without what costs more than the network for one observation: building the action
-        distribution, switching the modules to evaluation mode and the modules' call
-        machinery at every call. The same bits (``tests/test_learned_predict.py``).
+        ``None`` where the model is not a policy that path fits (it then goes through SB3's
+        ``predict``).
         """
-        fast = self._fast_path()
-        if fast is None:
-            return None
-        import torch
+        from agents.learned.mean_action import mean_action
 
-        policy, layers = fast
-        if policy.training:  # trained since: evaluation mode, as SB3's predict would set
-            policy.set_training_mode(False)
-        spaces = policy.observation_space.spaces
-        tensors, batched = {}, None
-        for key, space in spaces.items():
-            value = np.asarray(observation[key])
-            if value.shape == space.shape:
-                one = False
-            elif value.shape[1:] == space.shape:
-                one = True
-            else:
-                return None  # stable-baselines3's predict says what is wrong
-            if batched is not None and one != batched:
-                return None
-            batched = one
-            # what stable-baselines3's preprocessing does to a Box observation
-            tensors[key] = torch.as_tensor(value.reshape((-1, *space.shape))).float()
-        with torch.inference_mode():
-            x = policy.pi_features_extractor.forward(tensors)
-            for layer in layers:
-                x = layer(x)
-        space = policy.action_space
-        actions = np.clip(x.numpy().reshape((-1, *space.shape)), space.low, space.high)
-        return np.asarray(actions if batched else actions.squeeze(axis=0), dtype=np.float32)
+        fast = self._fast_path()
+        return None if fast is None else mean_action(*fast, observation)
 
     def _fast_path(self) -> tuple[Any, list[Any]] | None:
         """Return the SB3 policy and its actor's layers as functions, if the fast path fits.
 
-        It fits a Gaussian actor-critic policy (PPO, A2C) on a ``Dict`` of ``Box`` spaces,
-        on the CPU, whose actor is a plain stack of linear layers and activations (not a
-        recurrent one: its memory is in SB3's state).
+        Decided once per model (:func:`~agents.learned.mean_action.actor_layers`).
         """
+        from agents.learned.mean_action import actor_layers
+
         policy = getattr(self.model, "policy", self.model)
         cached: tuple[Any, list[Any] | None] | None = getattr(self, "_fast", None)
         if cached is None or cached[0] is not policy:
-            cached = self._fast = (policy, _actor_layers(policy))
+            cached = self._fast = (policy, actor_layers(policy))
             if cached[1] is not None:
                 policy.set_training_mode(False)
         return None if cached[1] is None else (policy, cached[1])
-
-
-def _actor_layers(policy: Any) -> list[Any] | None:
-    """Return the actor's layers and the action net as functions, or ``None`` (no fit)."""
-    import torch
-    from gymnasium import spaces
-    from stable_baselines3.common.distributions import DiagGaussianDistribution
-    from stable_baselines3.common.policies import ActorCriticPolicy
-    from stable_baselines3.common.torch_layers import MlpExtractor
-
-    plain = isinstance(policy, ActorCriticPolicy) and all(
-        getattr(type(policy), name) is getattr(ActorCriticPolicy, name)
-        for name in ("_predict", "get_distribution", "extract_features")
-    )
-    fits = (
-        plain
-        and isinstance(policy.action_dist, DiagGaussianDistribution)
-        and not policy.squash_output
-        and isinstance(policy.observation_space, spaces.Dict)
-        and all(isinstance(s, spaces.Box) for s in policy.observation_space.spaces.values())
-        and isinstance(policy.action_space, spaces.Box)
-        and type(policy.mlp_extractor) is MlpExtractor
-        and isinstance(policy.mlp_extractor.policy_net, torch.nn.Sequential)
-        and type(policy.action_net) is torch.nn.Linear
-        and str(policy.device) == "cpu"
-    )
-    if not fits:
-        return None
-    functions = {torch.nn.ReLU: torch.relu, torch.nn.Tanh: torch.tanh}
-    layers: list[Any] = []
-    for module in [*policy.mlp_extractor.policy_net, policy.action_net]:
-        if type(module) is torch.nn.Linear:
-            layers.append(_linear(module))
-        elif type(module) in functions:
-            layers.append(functions[type(module)])
-        else:
-            return None
-    return layers
-
-
-def _linear(module: Any) -> Any:
-    """``module``'s forward as a function (``torch.nn.Linear.forward`` without the call)."""
-    import torch
-
-    def forward(x: Any) -> Any:
-        return torch.nn.functional.linear(x, module.weight, module.bias)
-
-    return forward
 
 
 def shipped_models() -> list[str]:
