@@ -72,6 +72,12 @@ def test_control_period_must_be_a_multiple_of_the_physics_step() -> None:
     world.reset([2.0, 2.0, 0.0])
     with pytest.raises(ValueError, match="multiple of physics_dt"):
         world.step([0.1, 0.0], 0.025)
+    # the checked period is remembered; another one (after a valid one) is checked again
+    world.step([0.1, 0.0], 0.1)
+    for dt in (0.025, float("nan"), 1e6):
+        with pytest.raises(ValueError, match="physics_dt"):
+            world.step([0.1, 0.0], dt)
+    assert world.time == pytest.approx(0.1)
 
 
 @pytest.mark.parametrize("backend", ["pymunk", "kinematic"])

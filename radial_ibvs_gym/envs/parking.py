@@ -261,10 +261,13 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         if self.world is None or self._setup is None:
             raise RuntimeError("call reset() before step()")
         config = self.config
-        a = rules.real_actions(action).reshape(-1)
-        if a.shape != (2,):
-            raise ValueError(f"action must be {rules.ACTION_RULE}, got {action!r}")
-        a0, a1 = a.tolist()
+        if type(action) is np.ndarray and action.shape == (2,) and action.dtype.char in "fd":
+            a0, a1 = action.tolist()  # the action space's own float32 (or float64): exact
+        else:
+            a = rules.real_actions(action).reshape(-1)
+            if a.shape != (2,):
+                raise ValueError(f"action must be {rules.ACTION_RULE}, got {action!r}")
+            a0, a1 = a.tolist()
         if not (math.isfinite(a0) and math.isfinite(a1)):
             raise ValueError(f"action must be {rules.ACTION_RULE}, got {action!r}")
         s0, s1 = config.scale

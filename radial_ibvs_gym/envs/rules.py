@@ -388,13 +388,11 @@ def info_values(
         (``is_success``, ``collision``, ``lost``) are Python bools, which Gymnasium's vector
         envs batch as bool arrays.
     """
-    batched = isinstance(errors[0], np.ndarray) and errors[0].ndim > 0
-    values: dict[str, Any] = {
-        "robot_pose": np.array(pose, dtype=np.float64),
-        "goal_pose": np.array(goal, dtype=np.float64),
-    }
-    if batched:
-        values |= {
+    values: dict[str, Any]
+    if isinstance(errors[0], np.ndarray) and errors[0].ndim > 0:  # a batch
+        values = {
+            "robot_pose": np.array(pose, dtype=np.float64),
+            "goal_pose": np.array(goal, dtype=np.float64),
             "position_error_m": np.asarray(errors[0]).astype(np.float64),
             "heading_error_deg": np.degrees(errors[1]),
             "is_success": np.asarray(success, dtype=bool),
@@ -406,9 +404,11 @@ def info_values(
     else:
         # numbers as numpy scalars (TorchRL's info reader reads each value's dtype), flags as
         # Python bools (Gymnasium's SyncVectorEnv batches np.bool_ as an object array)
-        values |= {
+        values = {
+            "robot_pose": np.array(pose, dtype=np.float64),
+            "goal_pose": np.array(goal, dtype=np.float64),
             "position_error_m": np.float64(errors[0]),
-            "heading_error_deg": np.float64(math.degrees(float(errors[1]))),
+            "heading_error_deg": np.float64(math.degrees(errors[1])),
             "is_success": bool(success),
             "collision": bool(collision),
             "lost": bool(lost),

@@ -97,6 +97,21 @@ class PymunkWorld(World):
         self._contact: dict[str, Any] = {"touching": False}
         space.on_collision(ROBOT_TYPE, WALL_TYPE, pre_solve=_touching, data=self._contact)
         self.space, self._body, self._shape, self._control = space, body, shape, control
+        self._period = (math.nan, 0)  # the last control period (s) and its checked sub-steps
+
+    def _check_substeps(self, dt: float) -> int:
+        """Return the sub-steps in a control period of ``dt`` seconds, checking it."""
+        if not dt / self.physics_dt <= MAX_SUBSTEPS:  # NaN too
+            raise ValueError(
+                f"dt={dt!r} s is more than MAX_SUBSTEPS = {MAX_SUBSTEPS} sub-steps of "
+                f"physics_dt={self.physics_dt!r} s"
+            )
+        n = round(dt / self.physics_dt)
+        if n < 1 or abs(n * self.physics_dt - dt) > 1e-9:
+            raise ValueError(
+                f"dt={dt!r} s must be a positive multiple of physics_dt={self.physics_dt!r} s"
+            )
+        return n
 
     @property
     def pose(self) -> NDArray[np.float64]:  # noqa: D102
@@ -127,21 +142,15 @@ class PymunkWorld(World):
         ValueError
             If ``dt`` is not a positive multiple of ``physics_dt``, or the command is not finite.
         """
-        if not dt / self.physics_dt <= MAX_SUBSTEPS:  # NaN too
-            raise ValueError(
-                f"dt={dt!r} s is more than MAX_SUBSTEPS = {MAX_SUBSTEPS} sub-steps of "
-                f"physics_dt={self.physics_dt!r} s"
-            )
-        n = round(dt / self.physics_dt)
-        if n < 1 or abs(n * self.physics_dt - dt) > 1e-9:
-            raise ValueError(
-                f"dt={dt!r} s must be a positive multiple of physics_dt={self.physics_dt!r} s"
-            )
+        if dt != self._period[0]:  # NaN too
+            self._period = (dt, self._check_substeps(dt))
+        n = self._period[1]
         vel = limit_command(command, self._velocity, dt, self.robot)
-        v, omega = float(vel[0]), float(vel[1])
+        v, omega = vel.tolist()
         self._contact["touching"] = False
-        half = 0.5 * omega * self.physics_dt
-        body, control, space, h = self._body, self._control, self.space, self.physics_dt
+        h = self.physics_dt
+        half = 0.5 * omega * h
+        body, control, space = self._body, self._control, self.space
         if _cp is None:  # pragma: no cover - a pymunk without its cffi module
             control.angular_velocity = omega
             for _ in range(n):
@@ -149,14 +158,21 @@ class PymunkWorld(World):
                 control.velocity = (v * math.cos(heading), v * math.sin(heading))
                 space.step(h)
         else:  # the same calls, without the Python wrappers (they cost more than the physics)
-            body_c, control_c = body._body, control._body
+            body_c, control_c, space_c = body._body, control._body, space._space
+            get_angle, set_velocity = _cp.cpBodyGetAngle, _cp.cpBodySetVelocity
+            step = _cp.cpSpaceStep
+            cos, sin = math.cos, math.sin
             _cp.cpBodySetAngularVelocity(control_c, omega)
-            heading = _cp.cpBodyGetAngle(body_c) + half
-            _cp.cpBodySetVelocity(control_c, (v * math.cos(heading), v * math.sin(heading)))
-            space.step(h)  # the public step: pymunk's bookkeeping runs once per control step
-            space_c = space._space
-            for _ in range(n - 1):
-                heading = _cp.cpBodyGetAngle(body_c) + half
-                _cp.cpBodySetVelocity(control_c, (v * math.cos(heading), v * math.sin(heading)))
-                _cp.cpSpaceStep(space_c, h)
+            first = 0
+            if space._bodies_to_check:  # pymunk checks the bodies added since its last step
+                heading = get_angle(body_c) + half
+                set_velocity(control_c, (v * cos(heading), v * sin(heading)))
+                space.step(h)  # the public step, once in a world's life
+                first = 1
+            # the rest of pymunk's step handles changes made to the space during a step
+            # (queued additions, removals, post-step callbacks): this world makes none
+            for _ in range(first, n):
+                heading = get_angle(body_c) + half
+                set_velocity(control_c, (v * cos(heading), v * sin(heading)))
+                step(space_c, h)
         return self._finish_step(vel, dt, bool(self._contact["touching"]))
