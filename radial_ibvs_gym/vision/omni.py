@@ -30,6 +30,8 @@ __all__ = ["ImageQuality", "OmniRenderer", "RoomScene"]
 # grey levels (0..1) of the surfaces: walls facing +-x, walls facing +-y, floor, ceiling
 _SHADE = {"x": 0.78, "y": 0.66, "floor": 0.5, "ceiling": 0.9}
 _OUTSIDE, _BLIND, _BEACON = 0.04, 0.3, 0.06
+#: the shades by surface code: floor, ceiling, a y wall, an x wall
+_SHADES = np.array([_SHADE["floor"], _SHADE["ceiling"], _SHADE["y"], _SHADE["x"]])
 
 
 @dataclass(frozen=True)
@@ -255,8 +257,8 @@ class _Vertical:
     tz, oz
         Ray parameter of the floor or ceiling hit (inf: none) and the origins' heights above
         the floor, metres.
-    flat_shade
-        Grey level of the floor or ceiling each ray would meet.
+    up
+        Whether each ray points up (its flat surface is the ceiling, not the floor).
     reach
         Distance of the hit from the camera's axis, metres (inf where the ray meets neither).
     image
@@ -272,7 +274,7 @@ class _Vertical:
     dz: NDArray[np.float64]
     tz: NDArray[np.float64]
     oz: NDArray[np.float64]
-    flat_shade: NDArray[np.float64]
+    up: NDArray[np.bool_]
     reach: NDArray[np.float64]
     image: NDArray[np.float64]
 
@@ -302,7 +304,7 @@ class _Vertical:
             dz=dz[order],
             tz=tz[order],
             oz=oz[order],
-            flat_shade=flat[order],
+            up=dz[order] > 0,
             reach=reach[order],
             image=image,
         )
@@ -315,7 +317,7 @@ def _shade(
 
     The first surface along a ray is the one of least ray parameter (ties: the ``x`` walls,
     then the ``y`` walls, then the floor or ceiling); each step below gives the same bits as
-    the plain formulas in the comments.
+    the plain formulas in the comments (``tests/test_pixels.py``).
     """
     o0, o1, d0, d1 = v.ox[k:], v.oy[k:], v.dx[k:], v.dy[k:]
     ox = c * o0
@@ -330,12 +332,14 @@ def _shade(
     dy += c * d1
     tz = v.tz[k:]  # the floor and ceiling do not turn
     w, depth = scene.size
+    # where(dx > 0, w - ox, -ox) as (w or 0) - ox: the same numbers (but the sign of a zero,
+    # which no shade depends on), without a masked operation
+    tx = (dx > 0) * w
+    tx -= ox
+    ty = (dy > 0) * depth
+    ty -= oy
     with np.errstate(divide="ignore", invalid="ignore"):
-        tx = np.negative(ox)
-        np.add(tx, w, out=tx, where=dx > 0)  # where(dx > 0, w - ox, -ox)
         tx /= dx
-        ty = np.negative(oy)
-        np.add(ty, depth, out=ty, where=dy > 0)
         ty /= dy
     tx[~(tx >= 0)] = np.inf  # NaN (dx = 0) and behind the ray
     ty[~(ty >= 0)] = np.inf
@@ -344,29 +348,36 @@ def _shade(
     on_x = tx == t  # tx <= ty and tx <= tz
     on_y = ty == t
     on_y &= ~on_x
-    shade = np.where(on_x, _SHADE["x"], np.where(on_y, _SHADE["y"], v.flat_shade[k:]))
+    # where(on_x, x shade, where(on_y, y shade, floor or ceiling shade)), as a table lookup
+    code = v.up[k:] & ~(on_x | on_y)
+    code = code.view(np.uint8) | (on_y.view(np.uint8) << 1)
+    code |= on_x.view(np.uint8) * np.uint8(3)
+    shade = _SHADES.take(code.astype(np.intp))
     fall = 0.03 * t
     fall += 1.0
     shade /= fall  # gentle fall-off with distance
-    # the beacons: the hit points of the rays that meet a wall with beacons, then each
-    # beacon tested against its wall's rays only (the opposite wall is a room's width away)
+    # the beacons: each tested against the rays that meet its own wall (the opposite wall is
+    # a room away), first by its coordinate along the wall alone (``h^2 < r^2`` needs
+    # ``|h| < r`` for each of the three coordinates), then the few left by the full test
+    r, r2 = scene.beacon_radius, scene.beacon_radius**2
     oz, dz = v.oz[k:], v.dz[k:]
-    on_wall = {}
-    for wall in set(scene.walls):
+    by_wall: dict[int, list[int]] = {}
+    for j, wall in enumerate(scene.walls):
+        by_wall.setdefault(wall, []).append(j)
+    for wall, beacons in by_wall.items():
         hits, along = (on_x, dx) if wall < 2 else (on_y, dy)
         index = np.flatnonzero(hits & (along < 0 if wall % 2 == 0 else along > 0))
-        ti = t[index]
-        on_wall[wall] = (
-            index,
-            ox[index] + ti * dx[index],
-            oy[index] + ti * dy[index],
-            oz[index] + ti * dz[index],
-        )
-    r2 = scene.beacon_radius**2
-    for beacon, wall in zip(scene.beacons, scene.walls, strict=True):
-        index, wx, wy, wz = on_wall[wall]
-        hx, hy, hz = wx - beacon[0], wy - beacon[1], wz - beacon[2]
-        shade[index[hx * hx + hy * hy + hz * hz < r2]] = _BEACON
+        a = 1 if wall < 2 else 0  # the coordinate along the wall: y on an x wall, x on a y wall
+        origin, direction = (ox, oy)[a], (dx, dy)[a]
+        position = origin[index] + t[index] * direction[index]
+        for j in beacons:
+            beacon = scene.beacons[j]
+            i = index[np.abs(position - beacon[a]) < r]
+            ti = t[i]
+            hx = ox[i] + ti * dx[i] - beacon[0]
+            hy = oy[i] + ti * dy[i] - beacon[1]
+            hz = oz[i] + ti * dz[i] - beacon[2]
+            shade[i[hx * hx + hy * hy + hz * hz < r2]] = _BEACON
     return shade
 
 

@@ -229,10 +229,10 @@ class BeaconTracker:
         match = assign(predicted, blobs, self.gate_px)
         self._reacquire(match, blobs, centre, live)
         steady = (match >= 0) & live & (self.missed == 0)
-        for j in np.flatnonzero(steady):
-            step = _polar(blobs[match[j]], centre) - _polar(self.position[j], centre)
-            step[0] = (step[0] + math.pi) % (2 * math.pi) - math.pi
-            self.velocity[j] = step
+        if steady.any():  # each steady landmark's step, azimuth wrapped to [-pi, pi)
+            step = _polar(blobs[match[steady]], centre) - _polar(self.position[steady], centre)
+            step[:, 0] = (step[:, 0] + math.pi) % (2 * math.pi) - math.pi
+            self.velocity[steady] = step
         # a landmark coming back moves with the others (the image turns as a whole)
         common = np.median(self.velocity[steady], axis=0) if steady.any() else np.zeros(2)
         for k in range(self.n):
@@ -258,7 +258,9 @@ class BeaconTracker:
         centre: NDArray[np.float64],
         live: NDArray[np.bool_],
     ) -> None:
-        free = np.setdiff1d(np.arange(len(blobs)), match[match >= 0])
+        taken = np.zeros(len(blobs), dtype=bool)
+        taken[match[match >= 0]] = True
+        free = np.flatnonzero(~taken)  # the blobs no landmark took, in order
         order = [int(k) for k in self.order]
         if len(free) == 0 or len(order) < 3:
             return
