@@ -470,11 +470,16 @@ def _small_renderer(kind: str) -> OmniRenderer:
     where=st.tuples(st.floats(0.0, 1.0), st.floats(0.0, 1.0)),
     wall_gap=st.one_of(st.none(), st.integers(0, 10_000), st.floats(-1e-6, 1e-6)),
     yaw=st.floats(-math.pi, math.pi),
+    exposure=st.sampled_from([1.0, 0.7, 1.6]),
 )
 def test_the_image_is_the_same_bits_as_meeting_every_ray_with_every_surface(
-    kind: str, height: float, where: tuple[float, float], wall_gap, yaw: float
+    kind: str, height: float, where: tuple[float, float], wall_gap, yaw: float, exposure: float
 ) -> None:
-    """Poses anywhere in the room, at a wall, and at a ray's floor-hit distance from a wall."""
+    """Poses anywhere in the room, at a wall, and at a ray's floor-hit distance from a wall.
+
+    The grey levels, and the quantised image (which requantises only the rays met with the
+    walls, over a cached image of the others).
+    """
     renderer = _small_renderer(kind)
     scene = RoomScene(size=ROOM, height=height, beacons=BEACONS, beacon_radius=0.15)
     x, y = where[0] * ROOM[0], where[1] * ROOM[1]
@@ -488,9 +493,11 @@ def test_the_image_is_the_same_bits_as_meeting_every_ray_with_every_surface(
         else:
             x = float(reach[len(reach) // 2]) + wall_gap
     pose = np.array([x, y, yaw])
-    np.testing.assert_array_equal(
-        renderer.shade(pose, scene), _shade_every_ray_with_every_surface(renderer, pose, scene)
-    )
+    reference = _shade_every_ray_with_every_surface(renderer, pose, scene)
+    np.testing.assert_array_equal(renderer.shade(pose, scene), reference)
+    quantised = np.clip(np.rint(255.0 * exposure * reference), 0, 255).astype(np.uint8)
+    image = renderer.render(pose, scene, ImageQuality(exposure=exposure))
+    np.testing.assert_array_equal(image, quantised)
 
 
 @settings(max_examples=40, deadline=None)

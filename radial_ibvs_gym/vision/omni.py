@@ -7,11 +7,13 @@ by the robot's pose, intersect them with the walls, floor and ceiling, shade, an
 beacons (discs on the walls). Pure numpy.
 
 A ray that meets the floor or the ceiling meets it at a point fixed in the camera frame (the
-floor and ceiling do not turn with the robot), so its shade is computed once per room height.
-A frame first sorts out those rays whose hit point lies inside the room (they meet no wall
-first: the room is convex and the ray starts inside it), then intersects only the others with
-the walls. The image is the same, bit for bit, as intersecting every ray with every surface
-(``tests/test_pixels.py`` checks it against that reference).
+floor and ceiling do not turn with the robot), so its shade is computed once per room height,
+and, for a frame without blur or noise, its quantised grey level too. A frame leaves out the
+rays whose floor or ceiling hit lies nearer the camera's axis than any wall (they meet no wall
+first: the room is convex and the ray starts inside it), intersects only the others with the
+walls, and tests each beacon only against the rays that meet its wall near it. The image is
+the same, bit for bit, as intersecting every ray with every surface (``tests/test_pixels.py``
+checks it against that reference).
 """
 
 from __future__ import annotations
@@ -164,6 +166,8 @@ class OmniRenderer:
         # how far the rays' origins reach from the camera's axis, metres
         self._origin_reach = float(np.hypot(self._origins[:, 0], self._origins[:, 1]).max())
         self._vertical_cache: tuple[float, _Vertical] | None = None
+        # (room height, exposure) and the quantised image of v.image at them
+        self._quantised_cache: tuple[tuple[float, float], NDArray[np.uint8]] | None = None
 
     def _vertical(self, height: float) -> _Vertical:
         """Return the rays' floor or ceiling hits for a room height, sorted by reach (cached)."""
@@ -204,7 +208,18 @@ class OmniRenderer:
         numpy.ndarray
             ``(size, size)`` uint8 grey image.
         """
-        return _finish(self.shade(pose, scene), quality or ImageQuality(), rng)
+        quality = quality or ImageQuality()
+        if quality.blur_sigma > 0 or quality.noise_std > 0:  # they mix or draw every pixel
+            return _finish(self.shade(pose, scene), quality, rng)
+        # exposure and quantising act pixel by pixel: the rays that keep their floor or
+        # ceiling shade keep their quantised grey level too (cached per room height)
+        v, k, x, y, c, s = self._frame(pose, scene)
+        key = (scene.height, quality.exposure)
+        if self._quantised_cache is None or self._quantised_cache[0] != key:
+            self._quantised_cache = (key, _quantise(v.image, quality.exposure))
+        image = self._quantised_cache[1].copy()
+        image[v.index[k:]] = _quantise(_shade(v, k, x, y, c, s, scene), quality.exposure)
+        return image.reshape(self.size, self.size)
 
     def shade(self, pose: ArrayLike, scene: RoomScene) -> NDArray[np.float64]:
         """Compute the perfect image's grey levels from a pose, before exposure and quantising.
@@ -221,21 +236,30 @@ class OmniRenderer:
         numpy.ndarray
             ``(size, size)`` grey levels in ``[0, 1]``.
         """
+        v, k, x, y, c, s = self._frame(pose, scene)
+        image = v.image.copy()
+        image[v.index[k:]] = _shade(v, k, x, y, c, s, scene)
+        return image.reshape(self.size, self.size)
+
+    def _frame(
+        self, pose: ArrayLike, scene: RoomScene
+    ) -> tuple[_Vertical, int, float, float, float, float]:
+        """Return the rays of the room's height, the first that may meet a wall, the pose.
+
+        The rays whose floor or ceiling hit is nearer the camera's axis than any wall meet no
+        wall first, whatever the heading (the room is convex and the rays start in it): they
+        keep the floor or ceiling shade of ``v.image``. Returns ``(v, k, x, y, cos yaw, sin
+        yaw)``: the rays from the ``k``-th on are the others.
+        """
         p = as_float_array(pose, "pose")
         check_last_dim(p, 3, "pose")
         check_finite(p, "pose")
         x, y, yaw = (float(v) for v in p)
-        c, s = math.cos(yaw), math.sin(yaw)
         v = self._vertical(scene.height)
         w, depth = scene.size
-        # the rays whose floor or ceiling hit is nearer the camera's axis than any wall meet
-        # no wall first, whatever the heading (the room is convex and the rays start in it):
-        # they keep the floor or ceiling shade of v.image
         inner = min(x, w - x, y, depth - y) - _MARGIN
         k = int(np.searchsorted(v.reach, inner)) if inner > self._origin_reach else 0
-        image = v.image.copy()
-        image[v.index[k:]] = _shade(v, k, x, y, c, s, scene)
-        return image.reshape(self.size, self.size)
+        return v, k, x, y, math.cos(yaw), math.sin(yaw)
 
 
 #: metres: a floor hit this much nearer than the walls is on the floor, in every rounding
@@ -394,6 +418,16 @@ def _finish(
         if rng is None:
             raise ValueError("sensor noise needs a random generator (rng)")
         out = out + rng.normal(0.0, quality.noise_std, out.shape)
+    return _to_uint8(out)
+
+
+def _quantise(image: NDArray[np.float64], exposure: float) -> NDArray[np.uint8]:
+    """:func:`_finish` without blur and noise: pixel by pixel, so it may quantise any pixels."""
+    return _to_uint8(255.0 * exposure * image)
+
+
+def _to_uint8(out: NDArray[np.float64]) -> NDArray[np.uint8]:
+    """Round grey levels (0-255) to the nearest integer, clip and convert (``out`` is reused)."""
     np.rint(out, out=out)
     np.clip(out, 0, 255, out=out)
     return out.astype(np.uint8)
