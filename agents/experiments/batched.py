@@ -116,14 +116,15 @@ def _row_of(values: Mapping[str, Any], i: int) -> dict[str, Any]:
     return out
 
 
-def _image(obs: Mapping[str, Any], i: int) -> tuple[Any, Any, Any]:
+def _images(obs: Mapping[str, Any]) -> tuple[Any, Any, Any]:
+    """Return the batch's ``(B, 2N)`` points, ``(B, N)`` visibility, ``(B, 2N)`` goal points."""
     if "points" in obs:
-        return obs["points"][i], obs["visible"][i], obs["goal_points"][i]
+        return obs["points"], obs["visible"], obs["goal_points"]
     n = obs["observation"].shape[1] // 3  # goals with depths carry them after the 2M points
     return (
-        obs["achieved_goal"][i, : 2 * n],
-        obs["observation"][i, 2 * n :],
-        obs["desired_goal"][i, : 2 * n],
+        obs["achieved_goal"][:, : 2 * n],
+        obs["observation"][:, 2 * n :],
+        obs["desired_goal"][:, : 2 * n],
     )
 
 
@@ -218,11 +219,13 @@ def _run(
     n = len(seeds)
     obs, infos = _reset(venv, seeds, tasks)
     base = venv.unwrapped
-    poses = [[np.array(infos[i]["robot_pose"])] for i in range(n)]
-    images = [_image(obs, i) for i in range(n)]
-    points = [[np.array(images[i][0])] for i in range(n)]
-    visible = [[np.array(images[i][1])] for i in range(n)]
-    actions: list[list[np.ndarray]] = [[] for _ in range(n)]
+    # the whole batch's poses, actions and images, one array per step (copies); robot i's
+    # episode is its row of the first taken[i] + 1 of them (actions: taken[i])
+    first_points, first_visible, _ = _images(obs)
+    poses = [np.array([infos[i]["robot_pose"] for i in range(n)], dtype=np.float64)]
+    points, visible = [np.array(first_points)], [np.array(first_visible)]
+    actions: list[np.ndarray] = []
+    taken = np.zeros(n, dtype=np.int64)
     compute = np.zeros(n)
     ended = np.zeros(n, dtype=bool)
     terminated_at = np.zeros(n, dtype=bool)
@@ -255,20 +258,23 @@ def _run(
                 act[i] = a
         starts[:] = False
         obs, _, terminated, truncated, info = venv.step(act)
-        for i in live.tolist():
-            poses[i].append(np.array(info["robot_pose"][i]))
-            actions[i].append(np.asarray(act[i], dtype=np.float64))
-            image = _image(obs, i)
-            points[i].append(np.array(image[0]))
-            visible[i].append(np.array(image[1]))
-            if terminated[i] or truncated[i]:
-                ended[i], terminated_at[i] = True, bool(terminated[i])
-                infos[i] = _row_of(info, i)
+        step_points, step_visible, _ = _images(obs)
+        poses.append(np.array(info["robot_pose"], dtype=np.float64))
+        actions.append(act.astype(np.float64))
+        points.append(np.array(step_points))
+        visible.append(np.array(step_visible))
+        taken[live] += 1
+        for i in live[(terminated | truncated)[live]].tolist():
+            ended[i], terminated_at[i] = True, bool(terminated[i])
+            infos[i] = _row_of(info, i)
+    pose_steps, action_steps = np.stack(poses), np.stack(actions)
+    point_steps, visible_steps = np.stack(points), np.stack(visible)
+    goal_points = _images(obs)[2]
     logs = []
     config = base.config
     for i in range(n):
-        m = len(visible[i][-1])
-        info = infos[i]
+        m = visible_steps.shape[-1]
+        info, t = infos[i], int(taken[i])
         logs.append(
             EpisodeLog(
                 policy=name or type(policy).__name__,
@@ -277,11 +283,11 @@ def _run(
                 task=None if info.get("task") is None else int(info["task"]),
                 seed=seeds[i],
                 control_dt=float(config.control_dt),
-                poses=np.array(poses[i], dtype=np.float64),
-                actions=np.array(actions[i], dtype=np.float64).reshape(-1, 2),
-                points=np.array(points[i], dtype=np.float64).reshape(-1, m, 2),
-                visible=np.array(visible[i]).reshape(-1, m) > 0.5,
-                goal_points=np.asarray(_image(obs, i)[2], dtype=np.float64).reshape(m, 2),
+                poses=pose_steps[: t + 1, i].copy(),
+                actions=action_steps[:t, i].reshape(-1, 2),
+                points=point_steps[: t + 1, i].astype(np.float64).reshape(-1, m, 2),
+                visible=visible_steps[: t + 1, i].reshape(-1, m) > 0.5,
+                goal_points=np.asarray(goal_points[i], dtype=np.float64).reshape(m, 2),
                 info=info,
                 compute_s=float(compute[i]),
                 terminated=bool(terminated_at[i]),
