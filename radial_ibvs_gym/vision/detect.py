@@ -207,8 +207,10 @@ def _zones(
 
 
 def _median_grey(values: NDArray[np.uint8]) -> float:
-    """``np.median`` of grey levels, from their histogram (the same value, without a sort)."""
-    return _median_of_histogram(np.cumsum(np.bincount(values, minlength=256)))
+    """``np.median`` of a few grey levels (``(K,)``, K > 0): the middle one, or the two's mean."""
+    ordered = np.sort(values).tolist()
+    half = len(ordered) // 2
+    return float(ordered[half]) if len(ordered) % 2 else (ordered[half - 1] + ordered[half]) / 2.0
 
 
 def _median_of_histogram(counts: NDArray[np.int64]) -> float:
@@ -292,15 +294,14 @@ def detect_beacons(
     ring_kernel = np.ones((7, 7), np.uint8)
     centres, areas = [], []
     rejected = {"rim": 0, "size": 0, "shape": 0}
-    for label in range(1, n):
-        x0, y0, w, h, area = (int(v) for v in stats[label])
+    for label, (x0, y0, w, h, area) in enumerate(stats[1:n, :5].tolist(), start=1):
         if area < min_area or area > max_area:
             rejected["size"] += 1
             continue
         # a window three pixels larger than the blob on every side
         r0, r1 = max(0, y0 - 4), min(rows, y0 + h + 4)
         c0, c1 = max(0, x0 - 4), min(cols, x0 + w + 4)
-        blob = (labels[r0:r1, c0:c1] == label).astype(np.uint8)
+        blob = (labels[r0:r1, c0:c1] == label).view(np.uint8)  # 0 and 1, as OpenCV takes
         grown = cv2.dilate(blob, kernel) > 0
         if (grown & band_dark[r0:r1, c0:c1]).any():
             rejected["rim"] += 1
@@ -320,7 +321,7 @@ def detect_beacons(
         window = image[r0:r1, c0:c1].astype(np.float64)
         ring = (cv2.dilate(blob, ring_kernel) > 0) & ~grown & (labels[r0:r1, c0:c1] == 0)
         background = _median_grey(image[r0:r1, c0:c1][ring]) if ring.any() else threshold
-        wts = np.clip(background - window, 0.0, None) * grown
+        wts = np.maximum(background - window, 0.0) * grown
         total = wts.sum()
         if total <= 0:
             rejected["size"] += 1
