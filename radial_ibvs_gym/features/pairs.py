@@ -11,6 +11,7 @@ row by row, ``(0, 1), (0, 2), ..., (0, N-1), (1, 2), ..., (N-2, N-1)``, exactly 
 
 from __future__ import annotations
 
+import functools
 import operator
 
 import numpy as np
@@ -47,12 +48,20 @@ def pair_indices(n: int) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
         raise ValueError(f"n must be an integer number of points, got {n!r}") from exc
     if count < 2:
         raise ValueError(f"n = {count}: at least 2 points are needed to form a pair")
-    i, j = np.triu_indices(count, 1)
+    i, j = _pairs(count)
+    return i.copy(), j.copy()
+
+
+@functools.lru_cache(maxsize=64)
+def _pairs(n: int) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
+    """:func:`pair_indices` for ``n >= 2`` points, computed once per ``n`` (read-only)."""
+    i, j = np.triu_indices(n, 1)
+    i.flags.writeable = j.flags.writeable = False
     return i, j
 
 
 def _cij(x: NDArray[np.float64]) -> NDArray[np.float64]:
-    i, j = pair_indices(x.shape[-2])
+    i, j = _pairs(x.shape[-2])
     xs, ys = x[..., 0], x[..., 1]  # two products and a sum: as np.sum over the last axis
     out: NDArray[np.float64] = xs[..., i] * xs[..., j] + ys[..., i] * ys[..., j]
     return out
@@ -121,7 +130,7 @@ def L_cij(x_n: ArrayLike, d: ArrayLike, z_n: ArrayLike, *, sign: int = 1) -> NDA
     s = check_sign(sign)
     x, dd, zz = check_scene(x_n, d, z_n, min_points=2)
     u = s * x
-    i, j = pair_indices(u.shape[-2])
+    i, j = _pairs(u.shape[-2])
     ui, uj = u[..., i, :], u[..., j, :]
     di, dj = dd[..., i], dd[..., j]
     zi, zj = zz[..., i], zz[..., j]
