@@ -53,6 +53,17 @@ def test_profile_lies_on_the_quadric_with_the_right_slope_and_normal(name: str, 
 
 
 @pytest.mark.parametrize("name", list(MIRRORS))
+@settings(max_examples=30, deadline=None)
+@given(fracs=st.lists(st.floats(0.0, 1.0), min_size=1, max_size=20))
+def test_profile_gives_the_height_and_slope_bit_for_bit(name: str, fracs: list[float]) -> None:
+    m = MIRRORS[name]
+    rho = np.array(fracs) * m.rim_radius
+    z, slope = m.profile(rho)
+    np.testing.assert_array_equal(z, m.profile_z(rho))
+    np.testing.assert_array_equal(slope, m.profile_slope(rho))
+
+
+@pytest.mark.parametrize("name", list(MIRRORS))
 def test_intersect_ray_hits_the_silvered_sheet_first(name: str) -> None:
     m = MIRRORS[name]
     rng = np.random.default_rng(3)

@@ -65,9 +65,8 @@ class MeridianSolver:
 
     def _terms(self, s: NDArray[np.float64]) -> tuple[NDArray, NDArray, NDArray, NDArray, NDArray]:
         """Mirror height, slope, ``u . n`` and the scaled reflected direction at ``s``."""
-        r = np.abs(s)
-        mz = self.mirror.profile_z(r)
-        slope = np.where(s < 0.0, -self.mirror.profile_slope(r), self.mirror.profile_slope(r))
+        mz, slope = self.mirror.profile(np.abs(s))
+        slope = np.where(s < 0.0, -slope, slope)
         ux = -s
         uz = self.camera_z - mz
         dot = ux * slope - uz

@@ -51,6 +51,14 @@ class QuadricMirror:
         """Slope ``dz/drho = f'(rho)`` of the silvered sheet (dimensionless, any shape)."""
         raise NotImplementedError
 
+    def profile(self, rho: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Return the height (metres) and slope of the sheet at ``rho``, as the two methods do.
+
+        The same values, bit for bit; a mirror may share their common terms (a root-find
+        evaluates both at every iteration).
+        """
+        return self.profile_z(rho), self.profile_slope(rho)
+
     @property
     def central_camera_z(self) -> float | None:
         """On-axis pinhole position (mirror frame, metres) giving a single viewpoint, or None."""
@@ -201,6 +209,11 @@ class Hyperboloid(QuadricMirror):
     def profile_slope(self, rho: ArrayLike) -> NDArray[np.float64]:  # noqa: D102
         r = np.asarray(rho, dtype=np.float64)
         return (self.b / self.a**2) * r / np.sqrt(1.0 + (r / self.a) ** 2)
+
+    def profile(self, rho: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.float64]]:  # noqa: D102
+        r = np.asarray(rho, dtype=np.float64)
+        root = np.sqrt(1.0 + (r / self.a) ** 2)  # one square root for both
+        return self.b * root, (self.b / self.a**2) * r / root
 
     @property
     def central_camera_z(self) -> float:  # noqa: D102
