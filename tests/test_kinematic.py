@@ -13,6 +13,7 @@ from radial_ibvs_gym.physics import (
     RobotConfig,
     integrate_unicycle,
     limit_command,
+    limited_twist,
     twist_to_wheels,
     wheels_to_twist,
 )
@@ -67,6 +68,39 @@ def test_acceleration_limits_bound_the_change_per_step() -> None:
     assert out[0] == pytest.approx(robot.max_linear_accel * 0.1)
 
 
+finite = st.floats(-50, 50, allow_subnormal=False)
+
+
+@given(
+    v=finite,
+    w=finite,
+    v0=st.floats(-1.2, 1.2),
+    w0=st.floats(-5.3, 5.3),
+    dt=st.sampled_from([0.01, 0.1, 0.25]),
+    saturation=st.sampled_from(["scale", "clip"]),
+)
+def test_limits_on_floats_equal_the_array_form_bit_for_bit(v, w, v0, w0, dt, saturation) -> None:
+    robot = RobotConfig(saturation=saturation)
+    array = limit_command(np.array([v, w]), np.array([v0, w0]), dt, robot)
+    floats = limited_twist((v, w), (v0, w0), dt, robot)
+    assert all(type(x) is float for x in floats)
+    assert np.array(floats).tobytes() == array.tobytes()
+    assert limited_twist([v, w], (v0, w0), dt, robot) == floats  # a list reads the same
+
+
+def test_the_world_reports_the_limited_velocity_as_fresh_arrays() -> None:
+    world = KinematicWorld(RobotConfig(), (4.0, 4.0))
+    world.reset([2.0, 2.0, 0.0])
+    assert world.velocity.tolist() == [0.0, 0.0]
+    result = world.step((5.0, 0.0), 0.1)  # beyond the acceleration limit
+    expected = limit_command([5.0, 0.0], [0.0, 0.0], 0.1, world.robot)
+    assert result.velocity.tobytes() == expected.tobytes() == world.velocity.tobytes()
+    result.velocity[0] = 99.0  # the caller's copy: the world's own velocity is untouched
+    assert world.velocity.tobytes() == expected.tobytes()
+    world.reset([2.0, 2.0, 0.0])
+    assert world.velocity.tolist() == [0.0, 0.0]
+
+
 @given(left=st.floats(-20, 20), right=st.floats(-20, 20))
 def test_wheel_conversions_are_inverses(left: float, right: float) -> None:
     robot = RobotConfig()
@@ -108,6 +142,8 @@ def test_determinism_and_pickling() -> None:
             r"unknown robot key\(s\) \['wheelbase'\]",
         ),
         (lambda: limit_command([np.nan, 0.0], [0, 0], 0.1, FREE), "two finite numbers"),
+        (lambda: limited_twist((0.0, np.inf), (0.0, 0.0), 0.1, FREE), "two finite numbers"),
+        (lambda: limited_twist([1.0, 2.0, 3.0], (0.0, 0.0), 0.1, FREE), "two finite numbers"),
         (lambda: KinematicWorld(FREE, (0.0, 3.0)), "room must be"),
         (lambda: KinematicWorld(FREE, (3.0, 3.0)).reset([0.1, 1.0, 0.0]), "into a wall"),
         (lambda: KinematicWorld(FREE, (3.0, 3.0)).reset([1.0, np.inf, 0.0]), "finite"),

@@ -12,6 +12,7 @@ from radial_ibvs_gym.physics.base import StepResult, World
 from radial_ibvs_gym.physics.diffdrive import (
     RobotConfig,
     limit_command,
+    limited_twist,
     twist_to_wheels,
     wheels_to_twist,
 )
@@ -49,6 +50,7 @@ __all__ = [
     "World",
     "integrate_unicycle",
     "limit_command",
+    "limited_twist",
     "make_fleet",
     "make_world",
     "twist_to_wheels",

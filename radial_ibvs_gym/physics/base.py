@@ -128,7 +128,7 @@ class World(ABC):
         self._restart()
 
     def _restart(self) -> None:
-        self._velocity = np.zeros(2)
+        self._twist = (0.0, 0.0)  # (v, omega) applied over the last step, as floats
         self._time = 0.0
         self._n_collisions = 0
 
@@ -154,11 +154,11 @@ class World(ABC):
             raise ValueError(start_pose_error(p))
         return p
 
-    def _finish_step(self, velocity: NDArray[np.float64], dt: float, collision: bool) -> StepResult:
-        self._velocity = velocity
+    def _finish_step(self, twist: tuple[float, float], dt: float, collision: bool) -> StepResult:
+        self._twist = twist
         self._time += dt
         self._n_collisions += int(collision)
-        return StepResult(self.pose, velocity.copy(), collision, self._n_collisions)
+        return StepResult(self.pose, np.array(twist), collision, self._n_collisions)
 
     @property
     @abstractmethod
@@ -168,7 +168,7 @@ class World(ABC):
     @property
     def velocity(self) -> NDArray[np.float64]:
         """Velocity ``(v, omega)`` applied over the last step, m/s and rad/s (a copy)."""
-        return self._velocity.copy()
+        return np.array(self._twist)
 
     @property
     def time(self) -> float:

@@ -12,7 +12,13 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-__all__ = ["RobotConfig", "limit_command", "twist_to_wheels", "wheels_to_twist"]
+__all__ = [
+    "RobotConfig",
+    "limit_command",
+    "limited_twist",
+    "twist_to_wheels",
+    "wheels_to_twist",
+]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -113,13 +119,43 @@ def limit_command(
     ValueError
         If the command is NaN or infinite.
     """
-    if isinstance(command, tuple) and len(command) == 2:  # the envs' fast path: two floats
+    v0, w0 = np.asarray(previous, dtype=np.float64).tolist()
+    return np.array(limited_twist(command, (v0, w0), dt, config))
+
+
+def limited_twist(
+    command: ArrayLike, previous: tuple[float, float], dt: float, config: RobotConfig
+) -> tuple[float, float]:
+    """:func:`limit_command` on Python floats: the same limits, the same numbers.
+
+    Parameters
+    ----------
+    command
+        ``(2,)`` requested ``(v, omega)``, m/s and rad/s (a tuple of two floats is read as is).
+    previous
+        The ``(v, omega)`` applied over the previous control period, as two floats.
+    dt
+        Control period, seconds (> 0).
+    config
+        The robot.
+
+    Returns
+    -------
+    tuple of float
+        The ``(v, omega)`` to apply, m/s and rad/s.
+
+    Raises
+    ------
+    ValueError
+        If the command is NaN or infinite.
+    """
+    if type(command) is tuple and len(command) == 2:  # the envs' fast path: two floats
         v, w = float(command[0]), float(command[1])
     else:
         cmd = np.asarray(command, dtype=np.float64)
         if cmd.shape != (2,):
             raise ValueError(f"command must be two finite numbers (v, omega), got {command!r}")
-        v, w = float(cmd[0]), float(cmd[1])
+        v, w = cmd.tolist()
     if not (math.isfinite(v) and math.isfinite(w)):
         raise ValueError(f"command must be two finite numbers (v, omega), got {command!r}")
     v_max, w_max = config.max_linear_speed, config.max_angular_speed
@@ -128,9 +164,6 @@ def limit_command(
         v, w = v / factor, w / factor
     else:
         v, w = min(max(v, -v_max), v_max), min(max(w, -w_max), w_max)
-    if isinstance(previous, np.ndarray) and previous.dtype == np.float64:
-        v0, w0 = previous.tolist()
-    else:
-        v0, w0 = np.asarray(previous, dtype=np.float64).tolist()
+    v0, w0 = previous
     dv, dw = dt * config.max_linear_accel, dt * config.max_angular_accel
-    return np.array([min(max(v, v0 - dv), v0 + dv), min(max(w, w0 - dw), w0 + dw)])
+    return min(max(v, v0 - dv), v0 + dv), min(max(w, w0 - dw), w0 + dw)

@@ -13,7 +13,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from radial_ibvs_gym.geometry import wrap_angle_scalar
 from radial_ibvs_gym.physics.base import StepResult, World
-from radial_ibvs_gym.physics.diffdrive import RobotConfig, limit_command
+from radial_ibvs_gym.physics.diffdrive import RobotConfig, limited_twist
 
 __all__ = ["KinematicWorld", "integrate_unicycle"]
 
@@ -70,6 +70,7 @@ class KinematicWorld(World):
         self._restart()
 
     def step(self, command: ArrayLike, dt: float) -> StepResult:  # noqa: D102
-        vel = limit_command(command, self._velocity, dt, self.robot)
+        twist = limited_twist(command, self._twist, dt, self.robot)
+        vel = np.array(twist)  # numpy scalars for the integration, as ever
         self._pose = integrate_unicycle(self._pose, vel[0], vel[1], dt)
-        return self._finish_step(vel, dt, self.colliding(self._pose))
+        return self._finish_step(twist, dt, self.colliding(self._pose))

@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 from radial_ibvs_gym.geometry import wrap_angle_scalar
 from radial_ibvs_gym.limits import MAX_SUBSTEPS
 from radial_ibvs_gym.physics.base import StepResult, World, start_pose_error
-from radial_ibvs_gym.physics.diffdrive import RobotConfig, limit_command
+from radial_ibvs_gym.physics.diffdrive import RobotConfig, limited_twist
 
 try:  # pymunk's C functions (what its Python wrappers call); see PymunkWorld.step
     from pymunk._chipmunk_cffi import lib as _cp
@@ -145,8 +145,7 @@ class PymunkWorld(World):
         if dt != self._period[0]:  # NaN too
             self._period = (dt, self._check_substeps(dt))
         n = self._period[1]
-        vel = limit_command(command, self._velocity, dt, self.robot)
-        v, omega = vel.tolist()
+        v, omega = twist = limited_twist(command, self._twist, dt, self.robot)
         self._contact["touching"] = False
         h = self.physics_dt
         half = 0.5 * omega * h
@@ -175,4 +174,4 @@ class PymunkWorld(World):
                 heading = get_angle(body_c) + half
                 set_velocity(control_c, (v * cos(heading), v * sin(heading)))
                 step(space_c, h)
-        return self._finish_step(vel, dt, bool(self._contact["touching"]))
+        return self._finish_step(twist, dt, bool(self._contact["touching"]))
