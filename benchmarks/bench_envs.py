@@ -1,7 +1,8 @@
 """Environment throughput (a script that prints figures, not a timed test).
 
 Usage: ``python benchmarks/bench_envs.py [--quick]`` (or ``make bench``);
-``python benchmarks/bench_envs.py --rounds 15`` for the scalar envs against CartPole-v1 alone.
+``python benchmarks/bench_envs.py --rounds 15`` for the scalar envs against CartPole-v1 alone;
+``python benchmarks/bench_envs.py --parts`` for where one scalar step's time goes.
 
 1. The scalar envs: each registered id and physics backend through ``gym.make`` with random
    actions (resetting at episode end), with Gymnasium's CartPole-v1 and Pendulum-v1 as
@@ -14,6 +15,10 @@ Usage: ``python benchmarks/bench_envs.py [--quick]`` (or ``make bench``);
    pymunk; and kinematic) against ``CartPole-v1`` in K interleaved rounds of one second each
    (CartPole, then each env, then CartPole again...), and the median of the rounds' ratios:
    what the machine's load does to one round it does to its neighbours.
+4. With ``--parts``, the cost of each part of one scalar ``RadialIBVS/Parking-v0`` step
+   (pymunk, paper-sim), each called alone many times at one mid-episode state (``timeit``, the
+   best of 7 repeats: the cost without the machine's noise). The parts are the env's own
+   private steps, so this mode follows the env's code, not its API.
 """
 
 from __future__ import annotations
@@ -21,11 +26,14 @@ from __future__ import annotations
 import argparse
 import platform
 import time
+import timeit
+from collections.abc import Callable
 
 import gymnasium as gym
 import numpy as np
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
+from radial_ibvs_gym.envs import rules
 from radial_ibvs_gym.registration import ENV_IDS
 
 SIZES = (1, 16, 256, 1024, 4096)
@@ -78,6 +86,60 @@ def interleaved_ratios(rounds: int, seconds: float = 1.0) -> dict[str, list[floa
     return ratios
 
 
+def microseconds(call: Callable[[], object], number: int = 2000) -> float:
+    """Best of 7 repeats of ``number`` calls, microseconds per call."""
+    return min(timeit.repeat(call, number=number, repeat=7)) / number * 1e6
+
+
+def step_parts() -> list[tuple[str, float]]:
+    """Microseconds per call of each part of one scalar pymunk step, at one mid-episode state."""
+    wrapped = gym.make("RadialIBVS/Parking-v0")
+    env = wrapped.unwrapped
+    wrapped.reset(seed=0)
+    for _ in range(5):  # the world's first step takes pymunk's public path: leave it behind
+        wrapped.step(np.array([0.3, 0.1], dtype=np.float32))
+    # then a robot at rest: each repeated step costs what a step without contacts costs
+    action = np.zeros(2, dtype=np.float32)
+    config, world = env.config, env.world
+    command = (0.0, 0.0)
+
+    for _ in range(10):  # brake to rest within the robot's acceleration limits
+        wrapped.step(action)
+    pose = world.pose
+    now = rules.pose_errors(pose.tolist(), env._goal)
+    terms = rules.reward_terms(now, now, False, False, False, config.weights)
+
+    def end() -> object:
+        return rules.episode_end(
+            *now,
+            env._n_visible,
+            False,
+            success_position_m=config.success_position_m,
+            success_heading_rad=config.success_heading_rad,
+            min_visible=config.min_visible,
+            terminate_on_collision=config.terminate_on_collision,
+            held=0,
+            hold_steps=config.success_hold_steps,
+        )
+
+    parts = [
+        ("gym.make's env.step (wrappers included)", lambda: wrapped.step(action)),
+        ("the env's own step", lambda: env.step(action)),
+        ("  world.step (10 pymunk sub-steps)", lambda: world.step(command, config.control_dt)),
+        ("  the image (_observe)", lambda: env._observe(pose)),
+        ("  the observation dict (_obs)", env._obs),
+        ("  info (_info)", lambda: env._info(pose, now, False, False, False)),
+        ("  reward terms into info (reward_info)", lambda: rules.reward_info(terms, np.float64)),
+        ("  the episode's end (episode_end)", end),
+        (
+            "  the reward terms (reward_terms)",
+            lambda: rules.reward_terms(now, now, False, False, False, config.weights),
+        ),
+        ("  the pose errors (pose_errors)", lambda: rules.pose_errors(pose.tolist(), env._goal)),
+    ]
+    return [(name, microseconds(call)) for name, call in parts]
+
+
 def main() -> None:
     """Print the throughput tables."""
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -85,7 +147,15 @@ def main() -> None:
     parser.add_argument(
         "--rounds", type=int, help="only the scalar env against CartPole-v1, interleaved"
     )
+    parser.add_argument(
+        "--parts", action="store_true", help="only where one scalar pymunk step's time goes"
+    )
     args = parser.parse_args()
+    if args.parts:
+        print(f"# one scalar RadialIBVS/Parking-v0 step (pymunk), {platform.machine()}")
+        for name, us in step_parts():
+            print(f"{name:<44}{us:>8.2f} us")
+        return
     if args.rounds is not None:
         if args.rounds < 1:
             parser.error(f"--rounds must be a positive integer, got {args.rounds}")
