@@ -54,6 +54,31 @@ def test_the_scenario_content_is_in_the_key(tmp_path: Path) -> None:
     assert job_key(job) != before
 
 
+def test_a_store_reads_each_scenario_once_and_names_chunks_as_job_key(
+    tmp_path: Path, monkeypatch
+) -> None:
+    read: list[str] = []
+    real = store._scenario_content
+    monkeypatch.setattr(store, "_scenario_content", lambda name: read.append(name) or real(name))
+    chunks = store.ChunkStore(tmp_path / "out")
+    jobs = [Job(p, v, 2) for v in SUITES["paper"] + SUITES["paper-lab"] for p in ("ibvs", "pbvs")]
+    names = [chunks.path(job).name for job in jobs + jobs]
+    assert sorted(read) == sorted({job.variant.scenario for job in jobs})
+    assert names == [f"{job_key(job)}.json" for job in jobs + jobs]
+    assert len(set(names)) == len(jobs)
+
+
+def test_a_scenario_edited_during_a_run_changes_the_next_runs_keys(tmp_path: Path) -> None:
+    path = tmp_path / "lab.yaml"
+    shutil.copy(configs_dir() / "scenarios" / "paper-lab.yaml", path)
+    job = Job("ibvs", _lab(str(path)), 2)
+    running = store.ChunkStore(tmp_path / "out")
+    before = running.path(job)
+    path.write_text(path.read_text() + "\ncamera_height: 1.5\n")
+    assert running.path(job) == before  # read once, when the run first named the chunk
+    assert store.ChunkStore(tmp_path / "out").path(job) != before
+
+
 def test_the_policy_settings_and_the_version_are_in_the_key(monkeypatch) -> None:
     job = Job("ibvs", SUITES["paper"][0], 2)
     before = job_key(job)
