@@ -626,7 +626,7 @@ def test_a_full_disk_is_named_with_the_path(
     def full(path: Path, _data: object) -> Path:
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(path))
 
-    monkeypatch.setattr(store, "write_json", full)
+    monkeypatch.setattr(store, "write_atomic", full)
     argv = ["benchmark", "--policies", "ibvs", "--suites", "paper-lab", "--episodes", "1"]
     assert main([*argv, "--out", str(tmp_path / "bench"), "--no-progress", "--workers", "1"]) == 1
     err = capsys.readouterr().err
