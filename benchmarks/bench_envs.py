@@ -99,10 +99,8 @@ def step_parts() -> list[tuple[str, float]]:
     for _ in range(5):  # the world's first step takes pymunk's public path: leave it behind
         wrapped.step(np.array([0.3, 0.1], dtype=np.float32))
     # then a robot at rest: each repeated step costs what a step without contacts costs
-    action = np.zeros(2, dtype=np.float32)
     config, world = env.config, env.world
-    command = (0.0, 0.0)
-
+    action, command = np.zeros(2, dtype=np.float32), (0.0, 0.0)
     for _ in range(10):  # brake to rest within the robot's acceleration limits
         wrapped.step(action)
     pose = world.pose
