@@ -409,10 +409,13 @@ def test_a_beacon_larger_than_the_room_is_refused() -> None:
         RoomScene(size=(0.1, 4.0), height=2.8, beacons=np.array([[0.0, 1.0, 1.0]]))
 
 
-def _shade_every_ray_with_every_surface(
+def _meet_every_surface(
     renderer: OmniRenderer, pose: np.ndarray, scene: RoomScene
-) -> np.ndarray:
-    """The plain renderer: every ray met with the four walls, the floor and the ceiling."""
+) -> tuple[np.ndarray, list[np.ndarray]]:
+    """The plain renderer: every ray met with the four walls, the floor and the ceiling.
+
+    Returns the rays' shades ``(R,)`` and, for each beacon, the rays that meet it ``(R,)``.
+    """
     x, y, yaw = (float(v) for v in pose)
     c, s = math.cos(yaw), math.sin(yaw)
     o, d = renderer._origins, renderer._directions
@@ -434,14 +437,23 @@ def _shade_every_ray_with_every_surface(
     shade = np.where(on_x, 0.78, np.where(on_y, 0.66, renderer._flat_shade))
     shade = shade / (1.0 + 0.03 * t)
     hit = np.stack([ox + t * dx, oy + t * dy, oz + t * dz], axis=-1)
+    met = []
     for beacon, wall in zip(scene.beacons, scene.walls, strict=True):
         on_wall = (on_x if wall < 2 else on_y) & (
             ((dx if wall < 2 else dy) < 0) if wall % 2 == 0 else ((dx if wall < 2 else dy) > 0)
         )
         near = ((hit - beacon) ** 2).sum(axis=-1) < scene.beacon_radius**2
+        met.append(on_wall & near)
         shade[on_wall & near] = 0.06
+    return shade, met
+
+
+def _shade_every_ray_with_every_surface(
+    renderer: OmniRenderer, pose: np.ndarray, scene: RoomScene
+) -> np.ndarray:
+    """The plain renderer's image ``(S, S)``."""
     image = renderer._background.copy().reshape(-1)
-    image[renderer._index] = shade
+    image[renderer._index] = _meet_every_surface(renderer, pose, scene)[0]
     return image.reshape(renderer.size, renderer.size)
 
 
@@ -500,25 +512,72 @@ def test_the_image_is_the_same_bits_as_meeting_every_ray_with_every_surface(
     np.testing.assert_array_equal(image, quantised)
 
 
-@settings(max_examples=40, deadline=None)
+@settings(max_examples=60, deadline=None)
+@given(
+    kind=st.sampled_from(["central", "non-central", "imperfect"]),
+    where=st.tuples(st.floats(0.0, 1.0), st.floats(0.0, 1.0)),
+    yaw=st.floats(-math.pi, math.pi),
+    radius=st.sampled_from([0.02, 0.15, 0.6]),
+)
+def test_the_rays_tried_on_a_beacon_hold_every_ray_that_meets_it(
+    kind: str, where: tuple[float, float], yaw: float, radius: float
+) -> None:
+    """The renderer tries each beacon on the rays of an azimuth window about its bearing.
+
+    Near a wall, with beacons from a few pixels to larger than the window's fall-back
+    distance, and rays from the tilted, off-axis mirror of the imperfect camera.
+    """
+    from radial_ibvs_gym.vision.room_rays import near_beacon
+
+    renderer = _small_renderer(kind)
+    scene = RoomScene(size=ROOM, height=2.8, beacons=BEACONS, beacon_radius=radius)
+    pose = np.array([where[0] * ROOM[0], where[1] * ROOM[1], yaw])
+    _, met = _meet_every_surface(renderer, pose, scene)
+    v = renderer._vertical(scene.height)
+    position = np.empty(len(v.index), dtype=np.intp)  # each ray's place in the sorted rays
+    position[np.searchsorted(renderer._index, v.index)] = np.arange(len(v.index))
+    c, s = math.cos(yaw), math.sin(yaw)
+    for beacon, rays in zip(scene.beacons, met, strict=True):
+        tried = near_beacon(v, 0, pose[0], pose[1], c, s, beacon, radius, len(v.index))
+        assert np.isin(position[rays], tried).all()
+
+
+@settings(max_examples=60, deadline=None)
 @given(
     seed=st.integers(0, 2**32 - 1),
     shape=st.tuples(st.integers(1, 70), st.integers(1, 70)),
     density=st.floats(0.0, 1.0),
 )
-def test_the_block_labelling_gives_opencvs_default_labels_and_statistics(
+def test_the_labelling_gives_opencvs_default_labels_and_statistics(
     seed: int, shape: tuple[int, int], density: float
 ) -> None:
     import cv2
 
-    from radial_ibvs_gym.vision.detect import _LABELLING
+    from radial_ibvs_gym.vision.detect import _label
 
     dark = (np.random.default_rng(seed).random(shape) < density).astype(np.uint8)
-    default = cv2.connectedComponentsWithStats(dark, connectivity=8)
-    used = cv2.connectedComponentsWithStatsWithAlgorithm(dark, 8, cv2.CV_32S, _LABELLING)
-    assert default[0] == used[0]
-    for a, b in zip(default[1:], used[1:], strict=True):
-        np.testing.assert_array_equal(a, b)
+    n, labels, stats, _ = cv2.connectedComponentsWithStats(dark, connectivity=8)
+    used, used_stats = _label(dark)
+    np.testing.assert_array_equal(used, labels)
+    np.testing.assert_array_equal(np.array(used_stats, dtype=np.int32).reshape(-1, 5), stats[1:])
+    assert len(used_stats) == n - 1
+
+
+@settings(max_examples=80, deadline=None)
+@given(
+    seed=st.integers(0, 2**32 - 1),
+    threshold=st.one_of(
+        st.floats(allow_nan=True, allow_infinity=True),
+        st.floats(-2.0, 258.0),
+        st.integers(-2, 258).map(float),
+    ),
+)
+def test_the_integer_comparison_is_the_float_one(seed: int, threshold: float) -> None:
+    from radial_ibvs_gym.vision.detect import _below
+
+    image = np.random.default_rng(seed).integers(0, 256, (9, 31), dtype=np.uint8)
+    image.flat[:4] = (0, 255, 128, 127)
+    np.testing.assert_array_equal(_below(image, threshold), image < threshold)
 
 
 @settings(max_examples=60, deadline=None)

@@ -11,7 +11,8 @@ floor and ceiling do not turn with the robot), so its shade is computed once per
 and, for a frame without blur or noise, its quantised grey level too. A frame leaves out the
 rays whose floor or ceiling hit lies nearer the camera's axis than any wall (they meet no wall
 first: the room is convex and the ray starts inside it), intersects only the others with the
-walls, and tests each beacon only against the rays that meet its wall near it. The image is
+walls, and tests each beacon only against the rays that meet its wall within an azimuth
+window about its bearing (:mod:`radial_ibvs_gym.vision.room_rays`). The image is
 the same, bit for bit, as intersecting every ray with every surface (``tests/test_pixels.py``
 checks it against that reference).
 """
@@ -26,14 +27,12 @@ from numpy.typing import ArrayLike, NDArray
 
 from radial_ibvs_gym._validation import as_float_array, check_finite, check_last_dim
 from radial_ibvs_gym.camera import CatadioptricCamera
+from radial_ibvs_gym.vision.room_rays import SHADE, VerticalHits, shade_rays
 
 __all__ = ["ImageQuality", "OmniRenderer", "RoomScene"]
 
-# grey levels (0..1) of the surfaces: walls facing +-x, walls facing +-y, floor, ceiling
-_SHADE = {"x": 0.78, "y": 0.66, "floor": 0.5, "ceiling": 0.9}
-_OUTSIDE, _BLIND, _BEACON = 0.04, 0.3, 0.06
-#: the shades by surface code: floor, ceiling, a y wall, an x wall
-_SHADES = np.array([_SHADE["floor"], _SHADE["ceiling"], _SHADE["y"], _SHADE["x"]])
+#: grey levels (0..1) outside the mirror's image and in its blind centre
+_OUTSIDE, _BLIND = 0.04, 0.3
 
 
 @dataclass(frozen=True)
@@ -162,17 +161,17 @@ class OmniRenderer:
         self._index = np.flatnonzero(rays)
         self._origins = origins[rays]
         self._directions = directions[rays]
-        self._flat_shade = np.where(self._directions[:, 2] > 0, _SHADE["ceiling"], _SHADE["floor"])
+        self._flat_shade = np.where(self._directions[:, 2] > 0, SHADE["ceiling"], SHADE["floor"])
         # how far the rays' origins reach from the camera's axis, metres
         self._origin_reach = float(np.hypot(self._origins[:, 0], self._origins[:, 1]).max())
-        self._vertical_cache: tuple[float, _Vertical] | None = None
+        self._vertical_cache: tuple[float, VerticalHits] | None = None
         # (room height, exposure) and the quantised image of v.image at them
         self._quantised_cache: tuple[tuple[float, float], NDArray[np.uint8]] | None = None
 
-    def _vertical(self, height: float) -> _Vertical:
+    def _vertical(self, height: float) -> VerticalHits:
         """Return the rays' floor or ceiling hits for a room height, sorted by reach (cached)."""
         if self._vertical_cache is None or self._vertical_cache[0] != height:
-            self._vertical_cache = (height, _Vertical.of(self, height))
+            self._vertical_cache = (height, VerticalHits.of(self, height))
         return self._vertical_cache[1]
 
     def sensor_to_image(self, uv: ArrayLike) -> NDArray[np.float64]:
@@ -218,7 +217,7 @@ class OmniRenderer:
         if self._quantised_cache is None or self._quantised_cache[0] != key:
             self._quantised_cache = (key, _quantise(v.image, quality.exposure))
         image = self._quantised_cache[1].copy()
-        image[v.index[k:]] = _quantise(_shade(v, k, x, y, c, s, scene), quality.exposure)
+        image[v.index[k:]] = _quantise(shade_rays(v, k, x, y, c, s, scene), quality.exposure)
         return image.reshape(self.size, self.size)
 
     def shade(self, pose: ArrayLike, scene: RoomScene) -> NDArray[np.float64]:
@@ -238,12 +237,12 @@ class OmniRenderer:
         """
         v, k, x, y, c, s = self._frame(pose, scene)
         image = v.image.copy()
-        image[v.index[k:]] = _shade(v, k, x, y, c, s, scene)
+        image[v.index[k:]] = shade_rays(v, k, x, y, c, s, scene)
         return image.reshape(self.size, self.size)
 
     def _frame(
         self, pose: ArrayLike, scene: RoomScene
-    ) -> tuple[_Vertical, int, float, float, float, float]:
+    ) -> tuple[VerticalHits, int, float, float, float, float]:
         """Return the rays of the room's height, the first that may meet a wall, the pose.
 
         The rays whose floor or ceiling hit is nearer the camera's axis than any wall meet no
@@ -264,145 +263,6 @@ class OmniRenderer:
 
 #: metres: a floor hit this much nearer than the walls is on the floor, in every rounding
 _MARGIN = 1e-6
-
-
-@dataclass(frozen=True)
-class _Vertical:
-    """Every ray's floor or ceiling hit for one room height, the rays sorted by its reach.
-
-    The arrays but ``image`` are ``(R,)``, one entry per ray, sorted by ``reach``.
-
-    Attributes
-    ----------
-    index
-        Flat image index of each ray.
-    ox, oy, dx, dy, dz
-        The rays' origins (relative to the camera) and directions in the camera frame, metres.
-    tz, oz
-        Ray parameter of the floor or ceiling hit (inf: none) and the origins' heights above
-        the floor, metres.
-    up
-        Whether each ray points up (its flat surface is the ceiling, not the floor).
-    reach
-        Distance of the hit from the camera's axis, metres (inf where the ray meets neither).
-    image
-        ``(size * size,)`` the background with every ray's floor or ceiling hit shaded (with
-        the fall-off with distance; black where a ray meets neither).
-    """
-
-    index: NDArray[np.intp]
-    ox: NDArray[np.float64]
-    oy: NDArray[np.float64]
-    dx: NDArray[np.float64]
-    dy: NDArray[np.float64]
-    dz: NDArray[np.float64]
-    tz: NDArray[np.float64]
-    oz: NDArray[np.float64]
-    up: NDArray[np.bool_]
-    reach: NDArray[np.float64]
-    image: NDArray[np.float64]
-
-    @classmethod
-    def of(cls, renderer: OmniRenderer, height: float) -> _Vertical:
-        """Compute the hits of ``renderer``'s rays in a room ``height`` metres high."""
-        o, d = renderer._origins, renderer._directions
-        oz = renderer.camera_height + o[:, 2]
-        dz = d[:, 2]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            tz = np.where(dz > 0, height - oz, -oz) / dz
-        tz[~(tz >= 0)] = np.inf
-        finite = np.isfinite(tz)
-        with np.errstate(invalid="ignore"):
-            reach = np.hypot(o[:, 0] + tz * d[:, 0], o[:, 1] + tz * d[:, 1])
-        reach[~(finite & np.isfinite(reach))] = np.inf
-        order = np.argsort(reach, kind="stable")
-        flat = renderer._flat_shade
-        image = renderer._background.copy().reshape(-1)
-        image[renderer._index] = flat / (1.0 + 0.03 * tz)
-        return cls(
-            index=renderer._index[order],
-            ox=o[order, 0],
-            oy=o[order, 1],
-            dx=d[order, 0],
-            dy=d[order, 1],
-            dz=dz[order],
-            tz=tz[order],
-            oz=oz[order],
-            up=dz[order] > 0,
-            reach=reach[order],
-            image=image,
-        )
-
-
-def _shade(
-    v: _Vertical, k: int, x: float, y: float, c: float, s: float, scene: RoomScene
-) -> NDArray[np.float64]:
-    """Shade ``(R - k,)`` of the rays from the ``k``-th on: each met with every surface.
-
-    The first surface along a ray is the one of least ray parameter (ties: the ``x`` walls,
-    then the ``y`` walls, then the floor or ceiling); each step below gives the same bits as
-    the plain formulas in the comments (``tests/test_pixels.py``).
-    """
-    o0, o1, d0, d1 = v.ox[k:], v.oy[k:], v.dx[k:], v.dy[k:]
-    ox = c * o0
-    ox += x
-    ox -= s * o1  # x + c o0 - s o1, in that order
-    oy = s * o0
-    oy += y
-    oy += c * o1  # y + s o0 + c o1
-    dx = c * d0
-    dx -= s * d1
-    dy = s * d0
-    dy += c * d1
-    tz = v.tz[k:]  # the floor and ceiling do not turn
-    w, depth = scene.size
-    # where(dx > 0, w - ox, -ox) as (w or 0) - ox: the same numbers (but the sign of a zero,
-    # which no shade depends on), without a masked operation
-    tx = (dx > 0) * w
-    tx -= ox
-    ty = (dy > 0) * depth
-    ty -= oy
-    with np.errstate(divide="ignore", invalid="ignore"):
-        tx /= dx
-        ty /= dy
-    tx[~(tx >= 0)] = np.inf  # NaN (dx = 0) and behind the ray
-    ty[~(ty >= 0)] = np.inf
-    t = np.minimum(tx, ty)
-    np.minimum(t, tz, out=t)
-    on_x = tx == t  # tx <= ty and tx <= tz
-    on_y = ty == t
-    on_y &= ~on_x
-    # where(on_x, x shade, where(on_y, y shade, floor or ceiling shade)), as a table lookup
-    code = v.up[k:] & ~(on_x | on_y)
-    code = code.view(np.uint8) | (on_y.view(np.uint8) << 1)
-    code |= on_x.view(np.uint8) * np.uint8(3)
-    shade = _SHADES.take(code.astype(np.intp))
-    fall = 0.03 * t
-    fall += 1.0
-    shade /= fall  # gentle fall-off with distance
-    # the beacons: each tested against the rays that meet its own wall (the opposite wall is
-    # a room away), first by its coordinate along the wall alone (``h^2 < r^2`` needs
-    # ``|h| < r`` for each of the three coordinates), then the few left by the full test
-    r, r2 = scene.beacon_radius, scene.beacon_radius**2
-    oz, dz = v.oz[k:], v.dz[k:]
-    by_wall: dict[int, list[int]] = {}
-    for j, wall in enumerate(scene.walls):
-        by_wall.setdefault(wall, []).append(j)
-    for wall, beacons in by_wall.items():
-        hits, along = (on_x, dx) if wall < 2 else (on_y, dy)
-        index = np.flatnonzero(hits & (along < 0 if wall % 2 == 0 else along > 0))
-        a = 1 if wall < 2 else 0  # the coordinate along the wall: y on an x wall, x on a y wall
-        origin, direction = (ox, oy)[a], (dx, dy)[a]
-        position = origin[index] + t[index] * direction[index]
-        for j in beacons:
-            beacon = scene.beacons[j]
-            i = index[np.abs(position - beacon[a]) < r]
-            ti = t[i]
-            hx = ox[i] + ti * dx[i] - beacon[0]
-            hy = oy[i] + ti * dy[i] - beacon[1]
-            hz = oz[i] + ti * dz[i] - beacon[2]
-            shade[i[hx * hx + hy * hy + hz * hz < r2]] = _BEACON
-    return shade
 
 
 def _finish(
