@@ -527,7 +527,7 @@ def test_the_rays_tried_on_a_beacon_hold_every_ray_that_meets_it(
     Near a wall, with beacons from a few pixels to larger than the window's fall-back
     distance, and rays from the tilted, off-axis mirror of the imperfect camera.
     """
-    from radial_ibvs_gym.vision.room_rays import near_beacon
+    from radial_ibvs_gym.vision.room_rays import near_beacons
 
     renderer = _small_renderer(kind)
     scene = RoomScene(size=ROOM, height=2.8, beacons=BEACONS, beacon_radius=radius)
@@ -536,10 +536,15 @@ def test_the_rays_tried_on_a_beacon_hold_every_ray_that_meets_it(
     v = renderer._vertical(scene.height)
     position = np.empty(len(v.index), dtype=np.intp)  # each ray's place in the sorted rays
     position[np.searchsorted(renderer._index, v.index)] = np.arange(len(v.index))
+    k = len(v.index) // 3  # the rays from the k-th on
     c, s = math.cos(yaw), math.sin(yaw)
-    for beacon, rays in zip(scene.beacons, met, strict=True):
-        tried = near_beacon(v, 0, pose[0], pose[1], c, s, beacon, radius, len(v.index))
-        assert np.isin(position[rays], tried).all()
+    for x_walls in (True, False):
+        tried, owner, _ = near_beacons(v, k, pose[0], pose[1], c, s, scene, x_walls)
+        assert tried.min(initial=0) >= 0 and tried.max(initial=0) < len(v.index) - k
+        for j, rays in enumerate(met):
+            if (scene.walls[j] < 2) == x_walls:
+                meeting = position[rays]
+                assert np.isin(meeting[meeting >= k] - k, tried[owner == j]).all()
 
 
 @settings(max_examples=60, deadline=None)

@@ -4,7 +4,7 @@
 once: the floor and the ceiling do not turn with the robot), the rays sorted by how far that
 hit lies from the camera's axis, and by azimuth. :func:`shade_rays` meets the rays that may
 reach a wall with the walls at one pose, shades them and paints the beacons, each tried on
-the rays of an azimuth window about its bearing (:func:`near_beacon`). Used by
+the rays of an azimuth window about its bearing (:func:`near_beacons`). Used by
 :class:`~radial_ibvs_gym.vision.omni.OmniRenderer`; pure numpy.
 """
 
@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 if TYPE_CHECKING:
     from radial_ibvs_gym.vision.omni import OmniRenderer, RoomScene
 
-__all__ = ["BEACON", "SHADE", "SHADES", "VerticalHits", "near_beacon", "shade_rays"]
+__all__ = ["BEACON", "SHADE", "SHADES", "VerticalHits", "near_beacons", "shade_rays"]
 
 #: grey levels (0..1) of the surfaces: walls facing +-x, walls facing +-y, floor, ceiling
 SHADE = {"x": 0.78, "y": 0.66, "floor": 0.5, "ceiling": 0.9}
@@ -110,26 +110,6 @@ class VerticalHits:
             origin_reach=renderer._origin_reach,
         )
 
-    def near_bearing(self, bearing: float, half_width: float, k: int) -> NDArray[np.intp]:
-        """Positions, less ``k``, of the rays from the ``k``-th on within an azimuth window.
-
-        ``bearing`` and ``half_width`` in radians, camera frame; the positions are unsorted.
-        """
-        centre = (bearing + math.pi) % (2.0 * math.pi) - math.pi
-        edges = [(centre - half_width, centre + half_width)]
-        if edges[0][0] < -math.pi:  # the window wraps around -pi
-            edges = [(-math.inf, edges[0][1]), (edges[0][0] + 2.0 * math.pi, math.inf)]
-        elif edges[0][1] > math.pi:
-            edges = [(edges[0][0], math.inf), (-math.inf, edges[0][1] - 2.0 * math.pi)]
-        parts = []
-        for lo, hi in edges:
-            first, last = np.searchsorted(self.azimuth, (lo, hi)).tolist()
-            parts.append(self.by_azimuth[first:last])
-        rays = parts[0] if len(parts) == 1 else np.concatenate(parts)
-        rays = rays[rays >= k]
-        rays -= k
-        return rays
-
 
 def shade_rays(
     v: VerticalHits, k: int, x: float, y: float, c: float, s: float, scene: RoomScene
@@ -189,46 +169,49 @@ def shade_rays(
     code = v.up[k:] & ~(on_x | on_y)
     code = code.view(np.uint8) | (on_y.view(np.uint8) << 1)
     code |= on_x.view(np.uint8) * np.uint8(3)
-    shade = SHADES[code]
+    shade = SHADES.take(code)
     fall = 0.03 * t
     fall += 1.0
     shade /= fall  # gentle fall-off with distance
-    # the beacons: each tested against the rays that meet its own wall (the opposite wall is
-    # a room away) within an azimuth window about its bearing that holds every ray that can
-    # meet it (near_beacon), first by its coordinate along the wall alone (``h^2 < r^2``
-    # needs ``|h| < r`` for each of the three coordinates), then the few left by the full test
-    r, r2 = scene.beacon_radius, scene.beacon_radius**2
-    oz, dz = v.oz[k:], v.dz[k:]
-    for beacon, wall in zip(scene.beacons, scene.walls, strict=True):
-        rays = near_beacon(v, k, x, y, c, s, beacon, r, len(t))
-        hits, along = (on_x, dx) if wall < 2 else (on_y, dy)
-        toward = along[rays]
-        rays = rays[hits[rays] & (toward < 0 if wall % 2 == 0 else toward > 0)]
-        a = 1 if wall < 2 else 0  # the coordinate along the wall: y on an x wall, x on a y wall
-        origin, direction = (ox, oy)[a], (dx, dy)[a]
-        i = rays[np.abs(origin[rays] + t[rays] * direction[rays] - beacon[a]) < r]
-        ti = t[i]
-        hx = ox[i] + ti * dx[i] - beacon[0]
-        hy = oy[i] + ti * dy[i] - beacon[1]
-        hz = oz[i] + ti * dz[i] - beacon[2]
-        shade[i[hx * hx + hy * hy + hz * hz < r2]] = BEACON
+    # the beacons: each tried on the rays of an azimuth window about its bearing that holds
+    # every ray that can meet it (near_beacons), those on the x walls together, then those on
+    # the y walls; a ray is kept where it meets the beacon's own wall first (the opposite wall
+    # is a room away), then by its coordinate along the wall alone (``h^2 < r^2`` needs
+    # ``|h| < r`` for each of the three coordinates), then the few left by the full test
+    r = scene.beacon_radius
+    # x walls: the normal is x, the coordinate along the wall y (1); y walls: y, and x (0)
+    for x_walls, hits, normal, a, origin, direction in (
+        (True, on_x, dx, 1, oy, dy),
+        (False, on_y, dy, 0, ox, dx),
+    ):
+        rays, owner, sign = near_beacons(v, k, x, y, c, s, scene, x_walls)
+        keep = hits[rays]
+        keep &= normal[rays] * sign > 0  # towards the wall: -d > 0 is d < 0, bit for bit
+        rays, owner = rays[keep], owner[keep]
+        beacon = scene.beacons[owner]
+        near = np.abs(origin[rays] + t[rays] * direction[rays] - beacon[:, a]) < r
+        rays, beacon = rays[near], beacon[near]
+        tr = t[rays]
+        hx = ox[rays] + tr * dx[rays] - beacon[:, 0]
+        hy = oy[rays] + tr * dy[rays] - beacon[:, 1]
+        hz = v.oz[k:][rays] + tr * v.dz[k:][rays] - beacon[:, 2]
+        shade[rays[hx * hx + hy * hy + hz * hz < r * r]] = BEACON
     return shade
 
 
-def near_beacon(
+def near_beacons(
     v: VerticalHits,
     k: int,
     x: float,
     y: float,
     c: float,
     s: float,
-    beacon: NDArray[np.float64],
-    r: float,
-    n: int,
-) -> NDArray[np.intp]:
+    scene: RoomScene,
+    x_walls: bool,
+) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.float64]]:
     """Every ray, among those from the ``k``-th on, that can meet a beacon (and a few more).
 
-    A ray meets the beacon at ``o + t d`` within ``r`` of its centre ``b``; with the origin's
+    A ray meets a beacon at ``o + t d`` within ``r`` of its centre ``b``; with the origin's
     offset ``|o - p| <= rho`` from the camera ``p`` (:attr:`VerticalHits.origin_reach`, in the
     horizontal plane), ``|t d - (b - p)| < r + rho``: seen from the camera, ``t d`` lies in a
     disc of that radius about the beacon, whose half-angle is ``asin((r + rho) / |b - p|)``.
@@ -243,21 +226,53 @@ def near_beacon(
         The first ray (in ``v``'s order) to consider.
     x, y, c, s
         The camera's position (metres) and the cosine and sine of the robot's heading.
-    beacon
-        ``(3,)`` the beacon's centre, world frame, metres.
-    r
-        The beacon's radius, metres.
-    n
-        The number of rays from the ``k``-th on.
+    scene
+        The room and its beacons.
+    x_walls
+        The beacons on the walls ``x = 0`` and ``x = width`` (else those on the ``y`` walls).
 
     Returns
     -------
-    numpy.ndarray
-        ``(M,)`` positions, less ``k``, of the candidate rays, in no order.
+    rays, owner, sign
+        ``(M,)`` positions, less ``k``, of the candidate rays; the beacon each is a candidate
+        for (a ray may be one for several); and the sign, ``-1`` or ``+1``, of the direction
+        along the wall's normal of a ray that meets that beacon's wall.
     """
-    bx, by = float(beacon[0]) - x, float(beacon[1]) - y
-    ratio = (r + v.origin_reach) / math.hypot(bx, by) if (bx or by) else math.inf
-    if not ratio < 0.5:
-        return np.arange(n)
-    bearing = math.atan2(c * by - s * bx, c * bx + s * by)  # camera frame: turned by -yaw
-    return v.near_bearing(bearing, math.asin(ratio) + 1e-6, k)
+    n = len(v.index) - k
+    parts, owners, signs = [], [], []
+    reach = scene.beacon_radius + v.origin_reach
+    for j, (beacon, wall) in enumerate(zip(scene.beacons, scene.walls, strict=True)):
+        if (wall < 2) != x_walls:
+            continue
+        bx, by = float(beacon[0]) - x, float(beacon[1]) - y
+        ratio = reach / math.hypot(bx, by) if (bx or by) else math.inf
+        if not ratio < 0.5:  # too close for a window: every ray
+            part = np.arange(k, k + n)
+        else:
+            bearing = math.atan2(c * by - s * bx, c * bx + s * by)  # camera frame: by -yaw
+            part = _window(v, bearing, math.asin(ratio) + 1e-6)
+        parts.append(part)
+        owners.append(np.full(len(part), j, dtype=np.intp))
+        signs.append(np.full(len(part), -1.0 if wall % 2 == 0 else 1.0))
+    if not parts:
+        return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp), np.zeros(0)
+    rays, owner, sign = (np.concatenate(a) for a in (parts, owners, signs))
+    keep = rays >= k
+    rays, owner, sign = rays[keep], owner[keep], sign[keep]
+    rays -= k
+    return rays, owner, sign
+
+
+def _window(v: VerticalHits, bearing: float, half_width: float) -> NDArray[np.intp]:
+    """Positions ``(M,)`` in ``v`` of the rays within ``half_width`` of a bearing (radians)."""
+    centre = (bearing + math.pi) % (2.0 * math.pi) - math.pi
+    lo, hi = centre - half_width, centre + half_width
+    if lo < -math.pi:  # the window wraps around -pi
+        edges = [(-math.inf, hi), (lo + 2.0 * math.pi, math.inf)]
+    elif hi > math.pi:
+        edges = [(lo, math.inf), (-math.inf, hi - 2.0 * math.pi)]
+    else:
+        edges = [(lo, hi)]
+    bounds = np.searchsorted(v.azimuth, [e for edge in edges for e in edge]).tolist()
+    slices = [v.by_azimuth[bounds[i] : bounds[i + 1]] for i in range(0, len(bounds), 2)]
+    return slices[0] if len(slices) == 1 else np.concatenate(slices)
