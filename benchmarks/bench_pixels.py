@@ -2,12 +2,25 @@
 
 Usage: ``python benchmarks/bench_pixels.py`` (or ``make bench``). Targets from the issue on
 this kind of machine: a 256 x 256 frame in under 5 ms, 84 x 84 in under 1 ms.
+
+``python benchmarks/bench_pixels.py --against DIR`` compares this checkout's renderer and
+detector with those of another checkout ``DIR`` (e.g. a ``git worktree`` of an older commit):
+both load in one process and run alternately, call by call (in either order in turn), on
+the same frames (the start views of ten episodes per scenario and size), so that a box whose
+speed drifts slows both alike; it checks that both give the same images and detections, and
+prints each one's median time per call and the median of the per-call ratios.
 """
 
 from __future__ import annotations
 
+import argparse
+import importlib.util
 import platform
+import sys
 import time
+from functools import partial
+from pathlib import Path
+from types import ModuleType
 
 import gymnasium as gym
 import numpy as np
@@ -45,8 +58,84 @@ def env_step_ms(env_id: str, steps: int = 300, **kwargs) -> float:
     return 1e3 * (time.perf_counter() - start) / steps
 
 
+def _load(path: Path, name: str) -> ModuleType:
+    """Import one module file of another checkout under a name of its own."""
+    spec = importlib.util.spec_from_file_location(name, path)
+    if spec is None or spec.loader is None:
+        sys.exit(f"cannot load {path}")
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[name] = module
+    spec.loader.exec_module(module)
+    return module
+
+
+def against(other: Path, calls: int = 30) -> None:
+    """Alternate this checkout's renderer and detector with ``other``'s, call by call."""
+    from radial_ibvs_gym.vision.detect import fit_mirror_border
+
+    vision = other / "radial_ibvs_gym" / "vision"
+    if not (vision / "omni.py").is_file():
+        sys.exit(f"--against: no radial_ibvs_gym/vision/omni.py under {other}")
+    old_omni = _load(vision / "omni.py", "_other_omni")
+    old_detect = _load(vision / "detect.py", "_other_detect")
+    print(f"# pixels, this checkout against {other}: {platform.machine()}, numpy {np.__version__}")
+    print("| scenario | size | render: this, other, ratio | measure: this, other, ratio |")
+    print("|---|---:|---|---|")
+    for scenario, radius in (("paper-lab", 0.08), ("paper-sim", 0.1)):
+        sc = load_scenario(scenario)
+        for size in (84, 256, 384):
+            this = OmniRenderer(sc.camera, size, sc.config.camera_height)
+            that = old_omni.OmniRenderer(sc.camera, size, sc.config.camera_height)
+            times: dict[str, list[float]] = {key: [] for key in ("rn", "ro", "mn", "mo")}
+            for seed in range(10):
+                episode = sc.sample(np.random.default_rng(seed))
+                scene = room_scene(episode.room, episode.landmarks, radius)
+                other_scene = old_omni.RoomScene(
+                    scene.size, scene.height, scene.beacons, scene.beacon_radius
+                )
+                pose = episode.start
+                image = this.render(pose, scene)
+                if not np.array_equal(image, that.render(pose, other_scene)):
+                    sys.exit(f"the images differ: {scenario}, {size} px, seed {seed}")
+                border = fit_mirror_border(image)
+                if border is None:
+                    continue
+                a, b = measure(image, border=border), old_detect.measure(image, border=border)
+                if not np.array_equal(a.centres, b.centres):
+                    sys.exit(f"the detections differ: {scenario}, {size} px, seed {seed}")
+                pairs = (
+                    (
+                        ("rn", partial(this.render, pose, scene)),
+                        ("ro", partial(that.render, pose, other_scene)),
+                    ),
+                    (
+                        ("mn", partial(measure, image, border=border)),
+                        ("mo", partial(old_detect.measure, image, border=border)),
+                    ),
+                )
+                for pair in pairs:  # each pair in turn, its order swapped call by call
+                    for i in range(2 * calls):
+                        for key, call in pair if i % 2 else pair[::-1]:
+                            start = time.perf_counter()
+                            call()
+                            times[key].append(time.perf_counter() - start)
+            t = {key: np.asarray(value) for key, value in times.items()}
+            cells = [
+                f"{1e6 * np.median(t[n]):.0f} us, {1e6 * np.median(t[o]):.0f} us, "
+                f"{np.median(t[n] / t[o]):.2f}"
+                for n, o in (("rn", "ro"), ("mn", "mo"))
+            ]
+            print(f"| {scenario} | {size} | {cells[0]} | {cells[1]} |")
+
+
 def main() -> None:
     """Print the tables."""
+    parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    parser.add_argument("--against", type=Path, default=None, metavar="DIR")
+    args = parser.parse_args()
+    if args.against is not None:
+        against(args.against)
+        return
     print(f"# pixels: {platform.machine()}, numpy {np.__version__}")
     sc = load_scenario("paper-lab")
     episode = sc.sample(np.random.default_rng(0))
