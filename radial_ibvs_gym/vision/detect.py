@@ -229,7 +229,7 @@ _LABELLING = cv2.CCL_BBDT
 
 
 def _below(image: NDArray[np.uint8], threshold: float) -> NDArray[np.bool_]:
-    """``image < threshold`` for a uint8 image, compared as integers (four times faster).
+    """``image < threshold`` for a uint8 image, compared as integers (a few times faster).
 
     A grey level is below a threshold when it is below the threshold's ceiling.
     """

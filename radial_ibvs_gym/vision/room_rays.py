@@ -178,7 +178,7 @@ def shade_rays(
     # the y walls; a ray is kept where it meets the beacon's own wall first (the opposite wall
     # is a room away), then by its coordinate along the wall alone (``h^2 < r^2`` needs
     # ``|h| < r`` for each of the three coordinates), then the few left by the full test
-    r = scene.beacon_radius
+    r, r2 = scene.beacon_radius, scene.beacon_radius**2
     # x walls: the normal is x, the coordinate along the wall y (1); y walls: y, and x (0)
     for x_walls, hits, normal, a, origin, direction in (
         (True, on_x, dx, 1, oy, dy),
@@ -195,7 +195,7 @@ def shade_rays(
         hx = ox[rays] + tr * dx[rays] - beacon[:, 0]
         hy = oy[rays] + tr * dy[rays] - beacon[:, 1]
         hz = v.oz[k:][rays] + tr * v.dz[k:][rays] - beacon[:, 2]
-        shade[rays[hx * hx + hy * hy + hz * hz < r * r]] = BEACON
+        shade[rays[hx * hx + hy * hy + hz * hz < r2]] = BEACON
     return shade
 
 
