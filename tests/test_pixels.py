@@ -539,7 +539,7 @@ def test_the_rays_tried_on_a_beacon_hold_every_ray_that_meets_it(
     k = len(v.index) // 3  # the rays from the k-th on
     c, s = math.cos(yaw), math.sin(yaw)
     for x_walls in (True, False):
-        tried, owner, _ = near_beacons(v, k, pose[0], pose[1], c, s, scene, x_walls)
+        tried, owner = near_beacons(v, k, pose[0], pose[1], c, s, scene, x_walls)
         assert tried.min(initial=0) >= 0 and tried.max(initial=0) < len(v.index) - k
         for j, rays in enumerate(met):
             if (scene.walls[j] < 2) == x_walls:

@@ -162,8 +162,6 @@ class OmniRenderer:
         self._origins = origins[rays]
         self._directions = directions[rays]
         self._flat_shade = np.where(self._directions[:, 2] > 0, SHADE["ceiling"], SHADE["floor"])
-        # how far the rays' origins reach from the camera's axis, metres
-        self._origin_reach = float(np.hypot(self._origins[:, 0], self._origins[:, 1]).max())
         self._vertical_cache: tuple[float, VerticalHits] | None = None
         # (room height, exposure) and the quantised image of v.image at them
         self._quantised_cache: tuple[tuple[float, float], NDArray[np.uint8]] | None = None
@@ -257,7 +255,7 @@ class OmniRenderer:
         v = self._vertical(scene.height)
         w, depth = scene.size
         inner = min(x, w - x, y, depth - y) - _MARGIN
-        k = int(np.searchsorted(v.reach, inner)) if inner > self._origin_reach else 0
+        k = int(np.searchsorted(v.reach, inner)) if inner > v.origin_reach else 0
         return v, k, x, y, math.cos(yaw), math.sin(yaw)
 
 

@@ -107,7 +107,7 @@ class VerticalHits:
             image=image,
             azimuth=azimuth[by_azimuth],
             by_azimuth=by_azimuth,
-            origin_reach=renderer._origin_reach,
+            origin_reach=float(np.hypot(o[:, 0], o[:, 1]).max()),
         )
 
 
@@ -179,14 +179,16 @@ def shade_rays(
     # is a room away), then by its coordinate along the wall alone (``h^2 < r^2`` needs
     # ``|h| < r`` for each of the three coordinates), then the few left by the full test
     r, r2 = scene.beacon_radius, scene.beacon_radius**2
+    toward = np.where(np.asarray(scene.walls) % 2 == 0, -1.0, 1.0)  # each beacon's wall
     # x walls: the normal is x, the coordinate along the wall y (1); y walls: y, and x (0)
     for x_walls, hits, normal, a, origin, direction in (
         (True, on_x, dx, 1, oy, dy),
         (False, on_y, dy, 0, ox, dx),
     ):
-        rays, owner, sign = near_beacons(v, k, x, y, c, s, scene, x_walls)
+        rays, owner = near_beacons(v, k, x, y, c, s, scene, x_walls)
         keep = hits[rays]
-        keep &= normal[rays] * sign > 0  # towards the wall: -d > 0 is d < 0, bit for bit
+        # towards the beacon's wall (x = 0 or y = 0: -d > 0, which is d < 0 bit for bit)
+        keep &= normal[rays] * toward[owner] > 0
         rays, owner = rays[keep], owner[keep]
         beacon = scene.beacons[owner]
         near = np.abs(origin[rays] + t[rays] * direction[rays] - beacon[:, a]) < r
@@ -208,7 +210,7 @@ def near_beacons(
     s: float,
     scene: RoomScene,
     x_walls: bool,
-) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.float64]]:
+) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
     """Every ray, among those from the ``k``-th on, that can meet a beacon (and a few more).
 
     A ray meets a beacon at ``o + t d`` within ``r`` of its centre ``b``; with the origin's
@@ -233,13 +235,12 @@ def near_beacons(
 
     Returns
     -------
-    rays, owner, sign
-        ``(M,)`` positions, less ``k``, of the candidate rays; the beacon each is a candidate
-        for (a ray may be one for several); and the sign, ``-1`` or ``+1``, of the direction
-        along the wall's normal of a ray that meets that beacon's wall.
+    rays, owner
+        ``(M,)`` positions, less ``k``, of the candidate rays, and the beacon each is a
+        candidate for (a ray may be one for several).
     """
     n = len(v.index) - k
-    parts, owners, signs = [], [], []
+    parts, owners = [], []
     reach = scene.beacon_radius + v.origin_reach
     for j, (beacon, wall) in enumerate(zip(scene.beacons, scene.walls, strict=True)):
         if (wall < 2) != x_walls:
@@ -253,14 +254,13 @@ def near_beacons(
             part = _window(v, bearing, math.asin(ratio) + 1e-6)
         parts.append(part)
         owners.append(np.full(len(part), j, dtype=np.intp))
-        signs.append(np.full(len(part), -1.0 if wall % 2 == 0 else 1.0))
     if not parts:
-        return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp), np.zeros(0)
-    rays, owner, sign = (np.concatenate(a) for a in (parts, owners, signs))
+        return np.zeros(0, dtype=np.intp), np.zeros(0, dtype=np.intp)
+    rays, owner = np.concatenate(parts), np.concatenate(owners)
     keep = rays >= k
-    rays, owner, sign = rays[keep], owner[keep], sign[keep]
+    rays, owner = rays[keep], owner[keep]
     rays -= k
-    return rays, owner, sign
+    return rays, owner
 
 
 def _window(v: VerticalHits, bearing: float, half_width: float) -> NDArray[np.intp]:
