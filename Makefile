@@ -28,7 +28,7 @@ HYPOTHESIS_RUNS ?= 10
 test-random:
 	for i in $$(seq $(HYPOTHESIS_RUNS)); do \
 		HYPOTHESIS_PROFILE=random $(BIN)/python -m pytest -q -p no:cacheprovider \
-			$$(grep -l "from hypothesis" tests/*.py) || exit 1; \
+			$$(grep -rl "from hypothesis" tests --include="*.py") || exit 1; \
 	done
 
 lint:

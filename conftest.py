@@ -25,6 +25,8 @@ os.environ.setdefault("MPLBACKEND", "Agg")
 
 # the notebooks' helpers (notebooks/_helpers) are imported as ``_helpers``, as the notebooks do
 sys.path.insert(0, str(Path(__file__).resolve().parent / "notebooks"))
+# the tests' shared helpers (tests/_support, e.g. ``bearing_scenes``), last on the path
+sys.path.append(str(Path(__file__).resolve().parent / "tests" / "_support"))
 
 
 def pytest_collection_modifyitems(config, items):

@@ -50,7 +50,7 @@ class RandomPolicy:
     """
 
     env_kwargs: dict[str, bool] = {}  # noqa: RUF012
-    #: one call serves a batch (:mod:`agents.experiments.batched`)
+    #: one call serves a batch (:mod:`agents.rollouts`)
     batch_mode = "batch"
 
     def __init__(self, seed: int | None = 0) -> None:

@@ -5,7 +5,8 @@ Usage: ``python benchmarks/bench_batched.py [--episodes N]``. For each policy, t
 benchmark job: one at a time in a scalar env (what the benchmark did), and batched in the
 native vector env with one ``predict`` per step for the batch (what it does). Prints the wall
 time of each and the policy's compute per robot-step, alone and batched; the rows are the same
-(``tests/test_batched.py``). Run it on a quiet machine: the figures are wall-clock times.
+(``tests/agents/experiments/test_batched.py``). Run it on a quiet machine: the figures are
+wall-clock times.
 """
 
 from __future__ import annotations
@@ -16,7 +17,8 @@ import time
 
 import torch
 
-from agents.experiments import batched, jobs
+import agents.rollouts as rollouts
+from agents.experiments import jobs
 from agents.experiments.suites import SUITES
 
 POLICIES = (
@@ -36,15 +38,15 @@ def run(policy: str, episodes: int, batch: bool) -> tuple[float, float, int]:
     """Wall seconds, compute microseconds per robot-step, and steps of one job."""
     variant = next(v for v in SUITES["held-out"] if v.label == "random rooms")
     job = jobs.Job(policy, variant, episodes)
-    saved = batched.batch_mode
+    saved = rollouts.batch_mode
     if not batch:
-        batched.batch_mode = lambda p: None  # type: ignore[assignment]
+        rollouts.batch_mode = lambda p: None  # type: ignore[assignment]
     try:
         start = time.perf_counter()
         result = jobs.run_job(job)
         wall = time.perf_counter() - start
     finally:
-        batched.batch_mode = saved
+        rollouts.batch_mode = saved
     steps = sum(row["steps"] for row in result.rows)
     compute = sum(row["compute_us_per_step"] * row["steps"] for row in result.rows) / steps
     return wall, compute, steps

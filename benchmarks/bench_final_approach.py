@@ -18,7 +18,7 @@ import numpy as np
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from agents import IBVSPolicy
-from agents.runner import run_episode
+from agents.rollouts import run_episode
 
 
 def _camera(**imperfections: Any) -> dict[str, Any]:

@@ -28,6 +28,9 @@ extensions = [
 ]
 source_suffix = {".md": "myst-nb", ".ipynb": "myst-nb", ".rst": "restructuredtext"}
 nb_execution_mode = "off"  # the notebooks show the outputs stored in them (CI executes them)
+#: outputs displayed as Markdown (``display(Markdown(table))``) are parsed as MyST, which has
+#: tables; myst-nb's default, CommonMark, has none and shows a table as lines of pipes
+nb_render_markdown_format = "myst"
 exclude_patterns = ["_build", "Thumbs.db", ".DS_Store", "img/README.md"]
 myst_enable_extensions = ["colon_fence", "dollarmath", "deflist"]
 myst_heading_anchors = 3

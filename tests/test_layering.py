@@ -1,6 +1,6 @@
 """Imports flow one way: maths -> simulation -> envs, and ``agents`` -> ``radial_ibvs_gym``.
 
-Inside ``agents`` too: utilities -> analytic -> learned -> the registry and runner ->
+Inside ``agents`` too: utilities -> rollouts and rows -> analytic -> learned -> the registry ->
 experiments -> CLI.
 
 Checked twice: on the source (every ``import`` statement, lazy ones inside functions included,
@@ -150,9 +150,9 @@ def test_the_env_modules_import_by_job_one_way() -> None:
 
 
 #: the rooms of ``agents``, lower first: a module may import only its own room and lower ones
-AGENT_ROOMS = ("utilities", "analytic", "learned", "policies", "experiments", "cli")
-#: the loose modules of ``agents``: the shared utilities, and on top of both kinds of policy,
-#: the registry of every policy by name and the episode runner
+AGENT_ROOMS = ("utilities", "rollouts", "analytic", "learned", "policies", "experiments", "cli")
+#: the loose modules of ``agents``: the shared utilities, the rows of the rollouts (beside
+#: them), and on top of both kinds of policy, the registry of every policy by name
 AGENT_LOOSE = {
     "agents.io": "utilities",
     "agents.plotting": "utilities",
@@ -160,7 +160,7 @@ AGENT_LOOSE = {
     "agents.untrusted": "utilities",
     "agents": "policies",
     "agents.registry": "policies",
-    "agents.runner": "policies",
+    "agents.rows": "rollouts",
 }
 #: at most this many loose modules in ``agents/`` besides ``__init__.py``
 MAX_LOOSE = 6
@@ -168,7 +168,7 @@ MAX_LOOSE = 6
 
 def _room(module: str) -> str:
     parts = module.split(".")
-    if len(parts) > 1 and parts[1] in ("analytic", "learned", "experiments", "cli"):
+    if len(parts) > 1 and parts[1] in ("rollouts", "analytic", "learned", "experiments", "cli"):
         return parts[1]
     if module not in AGENT_LOOSE:
         raise AssertionError(f"{module} is in no room: add it to a room or to AGENT_LOOSE")
@@ -252,3 +252,26 @@ def test_the_envs_are_registered_whichever_is_imported_first(statement: str) -> 
         [sys.executable, "-c", code], capture_output=True, text=True, check=True, cwd=ROOT
     )
     assert out.stdout.strip().endswith("ok")
+
+
+#: the tests' folders: one per package of ``radial_ibvs_gym`` and ``agents``, and the project's
+#: own (the docs, the notebooks' helpers, the wheel, the RL clients, the files-are-data tests)
+TEST_FOLDERS = {
+    *LAYERS,
+    *(f"agents/{room}" for room in ("analytic", "learned", "experiments", "cli")),
+    "docs",
+    "notebooks",
+    "packaging",
+    "clients",
+    "security",
+}
+
+
+def test_the_tests_mirror_the_packages() -> None:
+    tests = ROOT / "tests"
+    loose = sorted(p.name for p in tests.glob("test_*.py") if p.name != Path(__file__).name)
+    assert not loose, f"tests at the top of tests/: {loose}; put each in its package's folder"
+    for path in tests.rglob("test_*.py"):
+        folder = path.parent.relative_to(tests).as_posix()
+        if folder != ".":
+            assert folder in TEST_FOLDERS, f"{path.relative_to(ROOT)}: {folder} mirrors no package"

@@ -30,6 +30,10 @@ class FilteredPolicy:
         is no filtering. With a 0.1 s step, 0.7 averages over about 0.3 s.
     """
 
+    #: how it runs in a batch of episodes (:mod:`agents.rollouts`): one ``predict`` for every
+    #: robot, each robot's action as alone
+    batch_mode = "batch"
+
     def __init__(self, base: Any, smoothing: float = 0.7) -> None:
         if not (math.isfinite(smoothing) and 0.0 <= smoothing < 1.0):
             raise ValueError(f"smoothing must be in [0, 1), got {smoothing!r}")

@@ -84,6 +84,10 @@ class IBVSPolicy:
     >>> action, _ = policy.predict(obs)
     """
 
+    #: how it runs in a batch of episodes (:mod:`agents.rollouts`): one ``predict`` for every
+    #: robot, each robot's action as alone
+    batch_mode = "batch"
+
     def __init__(
         self,
         variant: Variant = "paper",

@@ -39,6 +39,10 @@ class PBVSPolicy:
         ``allow_backward``...).
     """
 
+    #: how it runs in a batch of episodes (:mod:`agents.rollouts`): one ``predict`` for every
+    #: robot, each robot's action as alone
+    batch_mode = "batch"
+
     def __init__(self, **oracle_kwargs: Any) -> None:
         self.law = PoseOracle(**oracle_kwargs)
 

@@ -96,6 +96,10 @@ class MapPlanner:
         unknown argument.
     """
 
+    #: how it runs in a batch of episodes (:mod:`agents.rollouts`): one ``predict`` per robot
+    #: (OMPL plans one robot at a time)
+    batch_mode = "robot"
+
     def __init__(
         self,
         robot: RobotConfig | None = None,

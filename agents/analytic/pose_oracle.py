@@ -54,6 +54,10 @@ class PoseOracle:
         paper's law drives forwards only (the default).
     """
 
+    #: how it runs in a batch of episodes (:mod:`agents.rollouts`): one ``predict`` for every
+    #: robot, each robot's action as alone
+    batch_mode = "batch"
+
     def __init__(
         self,
         lam: float = 0.5,

@@ -15,13 +15,13 @@ from agents.cli._options import (
     policies_help,
     suites_help,
 )
+from agents.rows import LIMITS
 
 __all__ = ["BASELINES", "add_parser", "policies_to_run", "run"]
 
 #: what ``--baselines`` adds: both limits, the classical image-based policies, the student
 BASELINES = (
-    "planner",
-    "planner-image-goal",
+    *LIMITS,
     "ibvs",
     "ibvs-straight",
     "pbvs",
@@ -104,10 +104,9 @@ def policies_to_run(
     policies = list(given or ([] if baselines else default))
     added = [p for p in BASELINES if p not in policies] if baselines else []
     if not ompl:
-        planners = ("planner", "planner-image-goal")
-        added = [p for p in added if p not in planners]
+        added = [p for p in added if p not in LIMITS]
         if not given:
-            policies = [p for p in policies if p not in planners]
+            policies = [p for p in policies if p not in LIMITS]
     return [*policies, *added]
 
 
@@ -121,13 +120,13 @@ def run(args: argparse.Namespace) -> int:
     from agents import POLICY_NAMES
     from agents.analytic.planner import PLANNING_EXTRA
     from agents.experiments.benchmark import (
-        rich_table,
         run_benchmark,
+        suite_timings,
         summary_rows,
-        timings_table,
         write_outputs,
     )
     from agents.experiments.suites import SUITES
+    from agents.experiments.tables import rich_table, timings_table
     from agents.io import write_atomic, write_json
     from agents.learned import shipped_models
 
@@ -160,7 +159,7 @@ def run(args: argparse.Namespace) -> int:
         if result.skipped:
             print(f"skipped {result.job.policy} on {result.job.variant.suite}: {result.skipped}")
     written = write_outputs(results, args.out)
-    timings = timings_table(results, args.workers)
+    timings = timings_table(suite_timings(results), args.workers)
     print(f"time per suite (each job timed in its worker):\n{timings}")
     written.append(write_atomic(Path(args.out) / "timings.md", timings.encode()))
     if args.json is not None:

@@ -17,7 +17,9 @@ def add_parser(sub: Any) -> None:
         "distill",
         help="DAgger: distil the planner into an image-only student",
         description=(
-            "Run DAgger with the settings of a YAML file (research/configs/dagger_planner.yaml): "
+            "Run DAgger with the settings of a YAML file (configs/agents/dagger_student.yaml, "
+            "the shipped student's; the wheel carries it as "
+            "radial_ibvs_gym/_configs/agents/dagger_student.yaml): "
             "the teacher (the planner, which sees the poses and the map) labels the states the "
             "student visits; the student (an SB3 PPO policy on the features observation) is "
             "fitted to the labels after each round and evaluated on held-out seeds. Writes a "

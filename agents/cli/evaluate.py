@@ -61,7 +61,7 @@ def run(args: argparse.Namespace) -> int:
     """Run ``radial-ibvs evaluate``; returns the exit code."""
     from agents.experiments import write_json
     from agents.experiments.evaluate import evaluate, parse_env_kwargs
-    from agents.experiments.suites import JUDGING
+    from agents.rows import JUDGING
 
     # judged as the benchmark judges, whatever a model's training env asked (e.g. a hold)
     env_kwargs = {"physics": DEFAULT_PHYSICS, **JUDGING, **parse_env_kwargs(args.env_kwarg)}
@@ -87,9 +87,9 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _print_summary(name: str, scenario: str, logs: list[Any]) -> None:
-    from agents.experiments.evaluate import summarise
+    from agents.rows import episode_row, summarise
 
-    rows = [log.row() for log in logs]
+    rows = [episode_row(log) for log in logs]
     summary = summarise(rows)
     lo, hi = summary["success_ci95"]
     physics = ", ".join(sorted({str(row["physics"]) for row in rows}))

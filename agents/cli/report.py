@@ -87,14 +87,10 @@ def add_parser(sub: Any) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run ``radial-ibvs report``; returns the exit code."""
-    from agents.experiments.report import (
-        dagger_curves,
-        hold_steps,
-        load_rows,
-        results_table,
-        seeds_table,
-    )
+    from agents.experiments.report import dagger_curves
+    from agents.experiments.tables import results_table, seeds_table
     from agents.io import write_atomic
+    from agents.rows import TASK_TOLERANCE, TOLERANCES, hold_steps, load_rows
 
     renames = _pairs(args.rename, "--rename")
     seeds = {k: v.split(",") for k, v in _pairs(args.seeds, "--seeds").items()}
@@ -106,7 +102,7 @@ def run(args: argparse.Namespace) -> int:
         _write_into(args, rows, renames)
     if args.heatmap is not None:
         from agents.experiments.benchmark_plots import plot_success
-        from agents.experiments.report import success_summaries
+        from agents.rows import success_summaries
 
         renamed = [{**r, "policy": renames.get(str(r["policy"]), r["policy"])} for r in rows]
         kept = [r for r in renamed if not args.suites or r["suite"] in args.suites]
@@ -114,12 +110,13 @@ def run(args: argparse.Namespace) -> int:
     sources = ", ".join(str(p) for p in args.rows)
     hold = hold_steps(rows)
     held = f", held there {hold} steps in a row" if hold > 1 else ""
+    position_m, heading_deg = TOLERANCES[TASK_TOLERANCE]
     parts = [
         "# Benchmark report",
         "",
-        f"From {len(rows)} episodes ({sources}). Success: the final pose within 2 cm and "
-        f"2 deg of the goal{held}; in brackets, the 95 % Wilson interval (cells of 20 "
-        "episodes or more).",
+        f"From {len(rows)} episodes ({sources}). Success: the final pose within "
+        f"{100 * position_m:g} cm and {heading_deg:g} deg of the goal{held}; in brackets, the "
+        "95 % Wilson interval (cells of 20 episodes or more).",
         "",
         results_table(rows, args.suites, args.policies, renames),
     ]
@@ -148,8 +145,9 @@ def run(args: argparse.Namespace) -> int:
 def _figures(args: argparse.Namespace, rows: list[dict[str, Any]], renames: dict) -> list[str]:
     """Write the heat map, the success curves and ``success.csv`` into ``--out``; their lines."""
     from agents.experiments.benchmark_plots import plot_success, plot_success_curves
-    from agents.experiments.report import success_csv, success_summaries
+    from agents.experiments.tables import success_csv
     from agents.io import write_atomic
+    from agents.rows import success_summaries
 
     args.out.mkdir(parents=True, exist_ok=True)
     renamed = [{**r, "policy": renames.get(str(r["policy"]), r["policy"])} for r in rows]
@@ -183,7 +181,8 @@ def _write_into(args: argparse.Namespace, rows: list[dict[str, Any]], renames: d
     import shlex
     import sys
 
-    from agents.experiments.report import replace_block, results_table
+    from agents.experiments.report import replace_block
+    from agents.experiments.tables import results_table
     from agents.io import write_atomic
 
     ends = args.variants is None  # a headline (chosen rows) without the second table

@@ -9,7 +9,8 @@
 - :mod:`.pixels`: a rendered image and its measurement (``radial-ibvs image``);
 - :mod:`.demo`: the quick start's demo.
 
-Every episode runs through :mod:`agents.runner`; files are written by :mod:`agents.io`.
+Every episode runs through :mod:`agents.rollouts`; its rows are :mod:`agents.rows`', laid out by
+:mod:`.tables`; files are written by :mod:`agents.io`.
 """
 
 from agents.experiments.reproduce import (

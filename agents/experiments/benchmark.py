@@ -11,7 +11,6 @@ effort, smoothness, collisions and compute time per step.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from pathlib import Path
@@ -22,23 +21,21 @@ from tqdm import tqdm  # text bars: no ipywidgets needed in Jupyter
 
 from agents import make_policy
 from agents.experiments.backends import LocalBackend, RayBackend, make_backend
-from agents.experiments.evaluate import summarise
 from agents.experiments.jobs import CHUNK, Job, JobResult, init_worker, run_job
 from agents.experiments.store import ChunkStore
 from agents.experiments.suites import suite_variants
-from agents.io import write_atomic, write_csv, write_json
+from agents.experiments.tables import markdown_table, write_rows_csv
+from agents.io import write_atomic, write_json
+from agents.rows import add_limits, summarise
 from radial_ibvs_gym.envs.config import MAX_HOLD_STEPS
 
 __all__ = [
     "Job",
     "JobResult",
     "job_cost",
-    "markdown_table",
-    "rich_table",
     "run_benchmark",
     "suite_timings",
     "summary_rows",
-    "timings_table",
     "write_outputs",
 ]
 
@@ -188,16 +185,8 @@ def _merge(chunks: Sequence[JobResult]) -> list[JobResult]:
     return list(merged.values())  # the jobs' order: first chunks come first, stably sorted
 
 
-#: the policy whose rate is every table's limit: a planner with the true poses and the map
-LIMIT = "planner"
-#: the limit the images allow: the same planner driving to the pose the goal image shows
-IMAGE_GOAL_LIMIT = "planner-image-goal"
-#: both limits, in the order the tables show them
-LIMITS = (LIMIT, IMAGE_GOAL_LIMIT)
-
-
 def summary_rows(results: Sequence[JobResult]) -> list[dict[str, Any]]:
-    """One summary per policy and variant (see :func:`~.evaluate.summarise`), plus effort."""
+    """One summary per policy and variant (:func:`agents.rows.summarise`), effort and limits."""
     out = []
     for result in results:
         if result.skipped:
@@ -212,130 +201,8 @@ def summary_rows(results: Sequence[JobResult]) -> list[dict[str, Any]]:
             smoothness=float(np.mean([r["smoothness"] for r in result.rows])),
         )
         out.append(summary)
-    limits = {(s["suite"], s["variant"]): s["success_rate"] for s in out if s["policy"] == LIMIT}
-    image = {
-        (s["suite"], s["variant"]): s["success_rate"]
-        for s in out
-        if s["policy"] == IMAGE_GOAL_LIMIT
-    }
-    for summary in out:  # the limits beside every policy: the planners' rates
-        summary["limit"] = limits.get((summary["suite"], summary["variant"]))
-        summary["image_goal_limit"] = image.get((summary["suite"], summary["variant"]))
+    add_limits(out)  # the limits beside every policy: the planners' rates
     return out
-
-
-def _ends(summary: dict[str, Any]) -> str:
-    """How the failed episodes ended, e.g. ``collision 17, time-out 3``."""
-    ends = {k: v for k, v in (summary.get("ends") or {}).items() if k != "success" and v}
-    return ", ".join(f"{k} {v}" for k, v in ends.items()) or "-"
-
-
-def _limit(summary: dict[str, Any], key: str = "limit") -> str:
-    value = summary.get(key)
-    return "-" if value is None else f"{value:.0%}"
-
-
-def _compute(summary: dict[str, Any]) -> str:
-    """Return the compute per step and robot, and how many robots one call served."""
-    batch = int(summary.get("compute_batch", 1))
-    us = _fmt(summary["compute_us_per_step"], digits=0)
-    return us if batch <= 1 else f"{us} (x{batch})"
-
-
-def _fmt(value: float, scale: float = 1.0, digits: int = 2) -> str:
-    return "-" if value is None or not math.isfinite(value) else f"{scale * value:.{digits}f}"
-
-
-def markdown_table(summaries: Sequence[dict[str, Any]]) -> str:
-    """Format the summaries as a Markdown table."""
-    lines = [
-        "| suite | variant | physics | policy | success | 95% CI | limit | image-goal limit "
-        "| failures "
-        "| 10 cm / 5 deg "
-        "| 30 cm / 15 deg "
-        "| pos. err. median / p95 [cm] "
-        "| head. err. median / p95 [deg] | time [s] | path [m] | effort | smooth. "
-        "| coll. | us/step (batch) |",
-        "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|",
-    ]
-    for s in summaries:
-        lo, hi = s["success_ci95"]
-        loose = s.get("success_by_tolerance", {})
-        cells = [
-            f"{loose[k]['rate']:.0%}" if k in loose else "-" for k in ("10cm/5deg", "30cm/15deg")
-        ]
-        lines.append(
-            f"| {s['suite']} | {s['variant']} | {s['physics']} | {s['policy']} "
-            f"| {s['success_rate']:.0%} "
-            f"| {lo:.0%}-{hi:.0%} | {_limit(s)} | {_limit(s, 'image_goal_limit')} "
-            f"| {_ends(s)} | {cells[0]} | {cells[1]} "
-            f"| {_fmt(s['position_error_m_median'], 100)} / {_fmt(s['position_error_m_p95'], 100)} "
-            f"| {_fmt(s['heading_error_deg_median'])} / {_fmt(s['heading_error_deg_p95'])} "
-            f"| {_fmt(s['time_s_median'], digits=1)} | {_fmt(s['path_m_median'])} "
-            f"| {_fmt(s['control_effort'])} | {_fmt(s['smoothness'], digits=3)} "
-            f"| {s['collisions']} | {_compute(s)} |"
-        )
-    return "\n".join(lines) + "\n"
-
-
-def rich_table(summaries: Sequence[dict[str, Any]]) -> Any:
-    """Build a compact ``rich`` table for the terminal (the full one is ``summary.md``)."""
-    from rich.table import Table
-
-    table = Table(title="benchmark (full table: summary.md)")
-    for name in (
-        "suite / variant",
-        "policy",
-        "success (95% CI)",
-        "limit",
-        "image-goal limit",
-        "failures",
-        "pos. err. [cm]",
-        "head. err. [deg]",
-        "time [s]",
-        "coll.",
-    ):
-        table.add_column(name, justify="left" if name in ("suite / variant", "policy") else "right")
-    for s in summaries:
-        lo, hi = s["success_ci95"]
-        table.add_row(
-            f"{s['suite']} / {s['variant']} ({s['physics']})",
-            s["policy"],
-            f"{s['success_rate']:.0%} ({lo:.0%}-{hi:.0%})",
-            _limit(s),
-            _limit(s, "image_goal_limit"),
-            _ends(s),
-            _fmt(s["position_error_m_median"], 100),
-            _fmt(s["heading_error_deg_median"]),
-            _fmt(s["time_s_median"], digits=1),
-            str(s["collisions"]),
-        )
-    return table
-
-
-_CSV_COLUMNS = (
-    "policy",
-    "scenario",
-    "suite",
-    "variant",
-    "task",
-    "seed",
-    "physics",
-    "success",
-    "final_position_error_m",
-    "final_heading_error_deg",
-    "steps",
-    "time_s",
-    "path_length_m",
-    "collision",
-    "end",
-    "success_10cm_5deg",
-    "success_30cm_15deg",
-    "compute_us_per_step",
-    "compute_batch",
-    "control_effort",
-    "smoothness",
-)
 
 
 def suite_timings(results: Sequence[JobResult]) -> list[dict[str, Any]]:
@@ -359,26 +226,6 @@ def suite_timings(results: Sequence[JobResult]) -> list[dict[str, Any]]:
     return sorted(suites.values(), key=lambda e: -e["seconds"])
 
 
-def timings_table(results: Sequence[JobResult], workers: int) -> str:
-    """Return :func:`suite_timings` as Markdown, with the wall clock it implies per suite."""
-    rows = suite_timings(results)
-    total = sum(r["seconds"] for r in rows)
-    lines = [
-        f"| suite | episodes | worker-seconds | share | about, with {workers} workers |",
-        "|---|---:|---:|---:|---:|",
-    ]
-    for r in rows:
-        share = r["seconds"] / total if total else 0.0
-        resumed = f" ({r['resumed']} chunks resumed)" if r["resumed"] else ""
-        lines.append(
-            f"| {r['suite']}{resumed} | {r['episodes']} | {r['seconds']:.0f} | {share:.0%} "
-            f"| {r['seconds'] / max(workers, 1):.0f} s |"
-        )
-    lines.append(f"| all | {sum(r['episodes'] for r in rows)} | {total:.0f} | 100% "
-                 f"| {total / max(workers, 1):.0f} s |")  # fmt: skip
-    return "\n".join(lines) + "\n"
-
-
 def write_outputs(results: Sequence[JobResult], out_dir: Path | str) -> list[Path]:
     """Write ``episodes.csv``, ``episodes.json``, ``summary.md`` and the plots into ``out_dir``."""
     out = Path(out_dir)
@@ -392,18 +239,8 @@ def write_outputs(results: Sequence[JobResult], out_dir: Path | str) -> list[Pat
     table = markdown_table(summaries)
     if skipped:
         table += "\nSkipped:\n" + "\n".join(skipped) + "\n"
-    flat = [
-        {
-            **row,
-            **{
-                "success_" + name.replace("/", "_"): value
-                for name, value in (row.get("success_by_tolerance") or {}).items()
-            },
-        }
-        for row in rows
-    ]
     written = [
-        write_csv(out / "episodes.csv", flat, _CSV_COLUMNS),
+        write_rows_csv(out / "episodes.csv", rows),
         write_json(out / "episodes.json", rows),
         write_atomic(out / "summary.md", table),
     ]

@@ -20,7 +20,7 @@ import numpy as np
 
 from agents.learned.datasets import datasets_path, minari_module
 from agents.registry import make_policy
-from agents.runner import make_env
+from agents.rollouts import make_env
 
 __all__ = ["DEFAULT_LAYOUT", "collect", "dataset_id_for", "stack_infos"]
 

@@ -198,7 +198,7 @@ def run_episode_demo(out: Path | str, task: int = 1, seed: int = 0) -> Path:
     from PIL import Image
 
     from agents import IBVSPolicy
-    from agents.runner import make_env, run_episode
+    from agents.rollouts import make_env, run_episode
 
     policy = IBVSPolicy()
     env = make_env(policy, "paper-sim", {"task": task}, render_mode="rgb_array")

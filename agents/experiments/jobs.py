@@ -13,8 +13,9 @@ from typing import Any
 import numpy as np
 
 from agents import make_policy
-from agents.experiments.suites import JUDGING, Variant
-from agents.runner import make_env, run_episode
+from agents.experiments.suites import Variant
+from agents.rollouts import EnvMismatchError, run_episodes
+from agents.rows import JUDGING, episode_row
 
 __all__ = ["CHUNK", "Job", "JobResult", "init_worker", "run_job"]
 
@@ -32,7 +33,7 @@ class Job:
 
 
 #: episodes per job: long variants are split so that the workers share them. A job's episodes
-#: step together in one vector env (:mod:`agents.experiments.batched`), so a larger chunk
+#: step together in one vector env (:mod:`agents.rollouts.vector`), so a larger chunk
 #: amortises each batched call over more robots: 100 covers most variants in one job
 CHUNK = 100
 
@@ -67,59 +68,33 @@ def init_worker() -> None:
 
 
 def run_job(job: Job) -> JobResult:
-    """Run a job (in a worker process): its episodes batched where they can be, else one by one.
+    """Run a job (in a worker process): its episodes through :func:`agents.rollouts.run_episodes`.
 
-    Batched (:func:`agents.experiments.batched.run_batch`) or not, a job's rows are the same
-    through an ideal camera (timing apart); through an imperfect one, to the last digits (the
-    module :mod:`agents.experiments.batched` says how far).
+    Batched or not, a job's rows are the same through an ideal camera (timing apart); through
+    an imperfect one, to the last digits (:mod:`agents.rollouts.vector` says how far). A policy
+    whose observations do not fit the variant's env is skipped, with the reason.
     """
-    from agents.experiments.batched import batch_mode, batchable, run_batch
-    from agents.runner import DEFAULT_ENV_ID, env_kwargs_for
-
     start = time.perf_counter()
     policy = make_policy(job.policy, trust_pickle=job.trust_model)
     # the suite chooses the task per episode (a learned model's training task is dropped) and
     # judges every policy alike (a model's training env may have asked a hold)
     overrides = {**JUDGING, **job.variant.overrides, "task": None}
-    try:  # a learned model whose observations do not fit the variant's env is skipped
-        env = make_env(policy, job.variant.scenario, overrides)
-    except ValueError as error:
-        return JobResult(job, [], [], skipped=str(error), wall_s=time.perf_counter() - start)
-    base: Any = env.unwrapped
-    n_tasks = base.scenario.n_tasks
     ks = list(range(job.first, job.first + job.episodes))
     seeds = [job.variant.seed_offset + k for k in ks]
-    tasks = [k % n_tasks if job.variant.cycle_tasks else None for k in ks]
-    env_id = getattr(policy, "env_id", None) or DEFAULT_ENV_ID
-    kwargs = env_kwargs_for(policy, job.variant.scenario, overrides)
+    scenario_tasks: list[int] = []
+
+    def tasks(n_tasks: int) -> list[int | None]:  # episode k: task k % n (the paper's four)
+        scenario_tasks.append(n_tasks)
+        return [k % n_tasks if job.variant.cycle_tasks else None for k in ks]
+
     try:
-        if batchable(env_id, kwargs) is None and batch_mode(policy) is not None:
-            logs = run_batch(
-                policy, seeds, job.variant.scenario, overrides, tasks=tasks, policy_name=job.policy
-            )
-        else:  # the env the fit was checked on runs the episodes
-            logs = [
-                run_episode(
-                    policy,
-                    env,
-                    seed=seed,
-                    options=None if task is None else {"task": task},
-                    policy_name=job.policy,
-                )
-                for seed, task in zip(seeds, tasks, strict=True)
-            ]
-    finally:
-        env.close()
+        logs = run_episodes(policy, seeds, job.variant.scenario, overrides, tasks=tasks,
+                            policy_name=job.policy)  # fmt: skip
+    except EnvMismatchError as error:
+        return JobResult(job, [], [], skipped=str(error), wall_s=time.perf_counter() - start)
     rows, paths = [], []
     for k, log in zip(ks, logs, strict=True):
-        row = log.row()
-        row.update(
-            suite=job.variant.suite,
-            variant=job.variant.label,
-            start_pose=[float(v) for v in log.poses[0]],
-            goal_pose=[float(v) for v in log.info["goal_pose"]],
-        )
-        rows.append(row)
-        if k < n_tasks or (not job.variant.cycle_tasks and k < 8):
+        rows.append(episode_row(log, job.variant))
+        if k < scenario_tasks[0] or (not job.variant.cycle_tasks and k < 8):
             paths.append((log.task, log.poses[:, :2]))
     return JobResult(job, rows, paths, wall_s=time.perf_counter() - start)

@@ -20,7 +20,9 @@ from tqdm import tqdm  # text bars: no ipywidgets needed in Jupyter
 from agents import make_policy
 from agents.io import json_safe, write_csv
 from agents.io import write_json as write_json_file
-from agents.runner import EpisodeLog, make_env, run_episode
+from agents.rollouts import make_env, run_episode
+from agents.rollouts.log import EpisodeLog
+from agents.rows import episode_row
 
 __all__ = [
     "CASES",
@@ -199,4 +201,4 @@ def write_trajectories_csv(logs: Sequence[EpisodeLog], path: Path | str) -> Path
 
 def write_json(logs: Sequence[EpisodeLog], path: Path | str) -> Path:
     """Write the ``--json`` rows: one object per episode (:meth:`EpisodeLog.row`)."""
-    return write_json_file(path, [json_safe(log.row()) for log in logs])
+    return write_json_file(path, [json_safe(episode_row(log)) for log in logs])

@@ -15,7 +15,7 @@ from __future__ import annotations
 from dataclasses import dataclass, field, replace
 from typing import Any
 
-__all__ = ["HELD_OUT_SEED", "JUDGING", "SUITES", "Variant", "suite_variants"]
+__all__ = ["HELD_OUT_SEED", "SUITES", "Variant", "suite_variants"]
 
 _MIRROR_A = {"mirror": "A", "non_central_offset": 0.01}  # paper-sim's camera
 #: the detected-points set-ups: paper-sim's room is 15.6 m wide, so larger beacons and images
@@ -52,14 +52,6 @@ class Variant:
     cycle_tasks: bool = True
     seed_offset: int = 0
 
-
-#: how every episode is judged, whatever env a model was trained in (its metadata may ask a
-#: hold or other tolerances): the env's defaults, 2 cm / 2 deg at the first step within them
-JUDGING: dict[str, Any] = {
-    "success_position_m": 0.02,
-    "success_heading_deg": 2.0,
-    "success_hold_steps": 1,
-}
 
 #: first seed of the held-out episodes (training uses small seeds, its evaluations 10,000+)
 HELD_OUT_SEED = 100_000

@@ -14,7 +14,7 @@ import numpy as np
 
 from agents import make_policy
 from agents.io import write_atomic
-from agents.runner import make_env, run_episode
+from agents.rollouts import make_env, run_episode
 
 __all__ = ["render_episode"]
 

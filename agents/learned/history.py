@@ -164,6 +164,10 @@ class HistoryPolicy:
         The history it was trained with.
     """
 
+    #: how it runs in a batch of episodes (:mod:`agents.rollouts`): one ``predict`` for every
+    #: robot (each robot's action as alone, to the last bits of a batched matrix product)
+    batch_mode = "batch"
+
     def __init__(self, learned: Any, config: HistoryConfig) -> None:
         self.learned, self.config = learned, config
         self.name, self.metadata = learned.name, learned.metadata

@@ -54,6 +54,10 @@ class LearnedPolicy:
         The name it was loaded by.
     """
 
+    #: how it runs in a batch of episodes (:mod:`agents.rollouts`): one ``predict`` for every
+    #: robot (each robot's action as alone, to the last bits of a batched matrix product)
+    batch_mode = "batch"
+
     def __init__(
         self,
         model: Any,

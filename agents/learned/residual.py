@@ -162,6 +162,10 @@ class ResidualPolicy:
         The base policy and the scale it was trained with.
     """
 
+    #: how it runs in a batch of episodes (:mod:`agents.rollouts`): one ``predict`` for every
+    #: robot (each robot's action as alone, to the last bits of a batched matrix product)
+    batch_mode = "batch"
+
     def __init__(self, learned: Any, residual: ResidualConfig) -> None:
         self.learned = learned
         self.residual = residual

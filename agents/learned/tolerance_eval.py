@@ -18,7 +18,7 @@ import numpy as np
 from stable_baselines3.common.callbacks import EvalCallback
 
 from agents.io import write_atomic
-from radial_ibvs_gym.envs.rules import SUCCESS_TOLERANCES as TOLERANCES
+from agents.rows import TASK_TOLERANCE, TOLERANCES
 
 __all__ = ["ToleranceEvalCallback", "read_tolerance_curve", "success_within"]
 
@@ -42,7 +42,7 @@ def success_within(info: dict[str, Any], position_m: float, heading_deg: float) 
 class ToleranceEvalCallback(EvalCallback):
     """``EvalCallback`` that also records success at each of the reported tolerances.
 
-    The tolerances: :data:`radial_ibvs_gym.envs.rules.SUCCESS_TOLERANCES`.
+    The tolerances: :data:`agents.rows.TOLERANCES`.
 
     Takes ``EvalCallback``'s arguments; ``log_path`` is needed (the rates are written there).
     """
@@ -66,7 +66,7 @@ class ToleranceEvalCallback(EvalCallback):
             for episodes in self._within.values():
                 episodes.clear()
         result = super()._on_step()
-        if evaluating and self._within["2cm/2deg"]:
+        if evaluating and self._within[TASK_TOLERANCE]:
             self.tolerance_timesteps.append(int(self.num_timesteps))
             for name, episodes in self._within.items():
                 self.tolerance_rates[name].append(float(np.mean(episodes)))

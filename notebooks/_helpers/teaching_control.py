@@ -11,8 +11,10 @@ The notebooks import and call these; they hold no library logic of their own. Fo
 - training: :func:`small_train_config` (a config shrunk to a few hundred or thousand steps),
   :func:`read_progress_csv` (stable-baselines3's log);
 - drawing on given matplotlib ``Axes`` (matplotlib itself is imported lazily, only by
-  :func:`preserve_matplotlib_backend`): :func:`draw_pose`, :func:`draw_paths`,
-  :func:`draw_servoing` (the paper's Fig. 6-8), :func:`draw_convergence_map`.
+  :func:`preserve_matplotlib_backend`): :func:`draw_pose` and the library's
+  :func:`draw_convergence_map`. The paper's figures are the library's, drawn into the
+  notebook's axes: :func:`agents.experiments.figures.plot_paths` (Fig. 3-4) and
+  :func:`agents.experiments.figures.plot_servoing` (Fig. 6-8), both with ``axes=``.
 
 Conventions as everywhere in the package (``docs/conventions.md``): robot poses ``(x, y, yaw)``
 in the world frame, metres and radians, yaw counter-clockwise from the world x axis; the robot
@@ -25,7 +27,7 @@ from __future__ import annotations
 import csv
 import dataclasses
 import math
-from collections.abc import Iterator, Mapping, Sequence
+from collections.abc import Iterator, Mapping
 from contextlib import contextmanager
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
@@ -37,7 +39,7 @@ import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from agents.analytic.ibvs_policy import IBVSPolicy
 from agents.experiments.benchmark_plots import draw_convergence_map, starts_in_goal_frame
 from agents.learned.zoo_config import TrainConfig
-from agents.runner import EpisodeLog, make_env, run_episode
+from agents.rollouts import EpisodeLog, make_env, run_episode
 from radial_ibvs_gym._validation import as_float_array
 from radial_ibvs_gym.camera import radial_points
 from radial_ibvs_gym.geometry import relative_pose, world_to_camera
@@ -47,9 +49,7 @@ if TYPE_CHECKING:
 
 __all__ = [
     "draw_convergence_map",
-    "draw_paths",
     "draw_pose",
-    "draw_servoing",
     "goal_in_robot_frame",
     "hausdorff_distance",
     "ibvs_estimates",
@@ -427,87 +427,3 @@ def draw_pose(
     ax.arrow(
         x, y, length * math.cos(yaw), length * math.sin(yaw), width=0.02, color=color, lw=0
     )  # fmt: skip
-
-
-def draw_paths(
-    ax: Axes,
-    logs: Sequence[EpisodeLog],
-    *,
-    styles: Mapping[str, tuple[str, str]] | None = None,
-    poses: bool = True,
-) -> None:
-    """Draw the driven paths of episodes (the paper's Fig. 3-4), with start and goal poses.
-
-    Parameters
-    ----------
-    ax
-        Matplotlib axes (equal aspect, metres).
-    logs
-        Episodes; each is labelled by its ``policy`` name.
-    styles
-        ``policy -> (colour, line style)``; others get the next colours, solid.
-    poses
-        Draw the start (circle) and goal (square) poses of each episode.
-    """
-    styles = dict(styles or {})
-    for k, log in enumerate(logs):
-        color, line = styles.get(log.policy, (f"C{k % 10}", "-"))
-        ax.plot(*log.poses[:, :2].T, line, color=color, lw=1.6, label=log.policy)
-        if poses:
-            draw_pose(ax, log.poses[0], marker="o")
-            draw_pose(ax, log.info["goal_pose"], marker="s")
-    ax.set_aspect("equal")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("y [m]")
-    ax.grid(alpha=0.3)
-
-
-def draw_servoing(axes: Any, log: EpisodeLog, lam: float = 0.5) -> dict[str, NDArray[np.float64]]:
-    """Draw the paper's Fig. 6-8 for one IBVS episode on a 2 x 3 grid of axes.
-
-    Top: image point errors (pixels, if the log has them, as
-    :func:`~agents.experiments.reproduce.reproduce` records), feature errors
-    ``c*_ij - c_ij`` (Fig. 6), the ``alpha_m`` error (Fig. 8). Bottom: the IBVS camera
-    velocity and the robot command (Fig. 7), and the path.
-
-    Parameters
-    ----------
-    axes
-        ``(2, 3)`` array of matplotlib axes (``plt.subplots(2, 3)``).
-    log
-        The episode (its ``extra["goal_depths"]`` should hold the goal depths the policy used).
-    lam
-        The IBVS gain used, 1/s (for the camera velocity).
-
-    Returns
-    -------
-    dict
-        The signals (:func:`~agents.experiments.figures.servoing_signals`).
-    """
-    from agents.experiments.figures import servoing_signals
-
-    s = servoing_signals(log, lam)
-    k = np.arange(len(log.poses))
-    ax = axes[0][0]
-    for p in range(s["pixel_error"].shape[1]):
-        ax.plot(k, s["pixel_error"][:, p, 0], color=f"C{p % 10}", lw=1)
-        ax.plot(k, s["pixel_error"][:, p, 1], color=f"C{p % 10}", lw=1, ls="--")
-    ax.set_title("Fig. 6a: u - u*, v - v* (- -) [px]")
-    axes[0][1].plot(k, s["c_error"], lw=0.8)
-    axes[0][1].set_title("Fig. 6b: c*_ij - c_ij")
-    axes[0][2].plot(k, np.degrees(s["alpha_m_error"]), color="C3")
-    axes[0][2].set_title("Fig. 8: alpha*_m - alpha_m [deg]")
-    for column, label in enumerate(("v_x [m/s]", "v_y [m/s]", "omega_z [rad/s]")):
-        axes[1][0].plot(k, s["camera_velocity"][:, column], label=label)
-    axes[1][0].set_title("Fig. 7a: camera velocity (current frame)")
-    axes[1][0].legend(fontsize=8)
-    axes[1][1].plot(k[1:], s["robot_velocity"][:, 0], label="v / v_max")
-    axes[1][1].plot(k[1:], s["robot_velocity"][:, 1], label="omega / omega_max")
-    axes[1][1].set_title("Fig. 7b: robot command (eq. 38)")
-    axes[1][1].legend(fontsize=8)
-    for ax in (*axes[0], axes[1][0], axes[1][1]):
-        ax.set_xlabel("iteration")
-        ax.grid(alpha=0.3)
-    draw_paths(axes[1][2], [log])
-    axes[1][2].set_title("path")
-    return s

@@ -36,7 +36,8 @@ __all__ = ["MeridianSolver"]
 #: Samples of the bracketing grid along the mirror profile.
 GRID = 96
 #: Illinois iterations after the grid: the bracket starts at 1/95 of the rim, and the residual
-#: is smooth, so 4 reach machine precision and 6 leave a margin (``tests/test_camera_meridian.py``).
+#: is smooth, so 4 reach machine precision and 6 leave a margin
+#: (``tests/camera/test_camera_meridian.py``).
 ITERATIONS = 6
 
 

@@ -10,7 +10,7 @@ in the paper), so
 15 mm.
 
 Vertical field of view (elevation of the limiting world rays, degrees;
-``tests/test_catadioptric.py`` recomputes them and checks this table):
+``tests/camera/test_catadioptric.py`` recomputes them and checks this table):
 
 ======  ==================  ============================
 mirror  central             non-central (pinhole +10 mm)

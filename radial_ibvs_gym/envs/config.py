@@ -22,6 +22,7 @@ import numpy as np
 from radial_ibvs_gym.config import did_you_mean, short
 from radial_ibvs_gym.envs.missed import MissedDetections
 from radial_ibvs_gym.envs.observation import Slots
+from radial_ibvs_gym.envs.rules import SUCCESS_TOLERANCES, TASK_TOLERANCE
 from radial_ibvs_gym.features import pair_indices
 from radial_ibvs_gym.limits import MAX_SUBSTEPS
 from radial_ibvs_gym.physics import BACKENDS, RobotConfig
@@ -97,8 +98,8 @@ class ParkingConfig:
     image_blur: float = 0.0
     exposure: float = 1.0
     control_dt: float = 0.1
-    success_position_m: float = 0.02
-    success_heading_deg: float = 2.0
+    success_position_m: float = SUCCESS_TOLERANCES[TASK_TOLERANCE][0]
+    success_heading_deg: float = SUCCESS_TOLERANCES[TASK_TOLERANCE][1]
     success_hold_steps: int = 1
     min_visible: int = 3
     terminate_on_collision: bool = True

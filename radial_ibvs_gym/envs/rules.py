@@ -31,6 +31,7 @@ __all__ = [
     "INFO_KEYS",
     "REWARD_TERMS",
     "SUCCESS_TOLERANCES",
+    "TASK_TOLERANCE",
     "episode_end",
     "goal_reward_terms",
     "image_distance",
@@ -45,12 +46,15 @@ __all__ = [
 ]
 
 #: the success tolerances results are reported at (position in metres, heading in degrees):
-#: the task's own (2 cm / 2 deg, what ``info["is_success"]`` checks by default) and two looser
+#: the task's own (:data:`TASK_TOLERANCE`, what ``info["is_success"]`` checks by default) and
+#: two looser; the one table of them (the env's defaults and every row read it)
 SUCCESS_TOLERANCES: dict[str, tuple[float, float]] = {
     "2cm/2deg": (0.02, 2.0),
     "10cm/5deg": (0.10, 5.0),
     "30cm/15deg": (0.30, 15.0),
 }
+#: the task's own tolerance: the key of :data:`SUCCESS_TOLERANCES` the envs judge by default
+TASK_TOLERANCE = "2cm/2deg"
 
 #: the reward terms, in the order they are summed (``info["reward_<term>"]``)
 REWARD_TERMS = ("progress", "heading", "precision", "time", "collision", "lost", "success")

@@ -4,7 +4,7 @@ Conventions (see ``docs/conventions.md``): camera twist ``tau = (v_x, v_y, v_z, 
 omega_y, omega_z)`` in the camera frame, a static point moves as ``dP/dt = -v - omega x P``, and
 every interaction matrix ``L`` has these 6 columns with ``ds/dt = L tau``. With this convention
 eq. (15), (16) and (21) hold exactly as printed (checked against central finite differences in
-``tests/test_features_interaction.py``).
+``tests/features/test_features_interaction.py``).
 
 The radial sign: the printed formulas assume ``x_n = +(X, Y) / d`` (convex mirrors). For the
 concave (ellipsoidal) mirror, ``x_n = -(X, Y) / d``; pass ``sign=-1`` and the matrices are

@@ -224,7 +224,7 @@ def _median_of_histogram(counts: NDArray[np.int64]) -> float:
 
 
 #: OpenCV's block-based labelling (Grana's BBDT): the default's labels, in a third of its time
-#: here (``tests/test_pixels.py`` checks that they are the same)
+#: here (``tests/vision/test_pixels.py`` checks that they are the same)
 _LABELLING = cv2.CCL_BBDT
 
 

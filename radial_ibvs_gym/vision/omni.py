@@ -13,7 +13,7 @@ rays whose floor or ceiling hit lies nearer the camera's axis than any wall (the
 first: the room is convex and the ray starts inside it), intersects only the others with the
 walls, and tests each beacon only against the rays that meet its wall within an azimuth
 window about its bearing (:mod:`radial_ibvs_gym.vision.room_rays`). The image is
-the same, bit for bit, as intersecting every ray with every surface (``tests/test_pixels.py``
+the same, bit for bit, as intersecting every ray with every surface (``tests/vision/test_pixels.py``
 checks it against that reference).
 """
 

@@ -118,7 +118,7 @@ def shade_rays(
 
     The first surface along a ray is the one of least ray parameter (ties: the ``x`` walls,
     then the ``y`` walls, then the floor or ceiling); each step below gives the same bits as
-    the plain formulas in the comments (``tests/test_pixels.py``).
+    the plain formulas in the comments (``tests/vision/test_pixels.py``).
 
     Parameters
     ----------

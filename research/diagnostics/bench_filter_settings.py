@@ -15,7 +15,8 @@ from collections import Counter
 
 from agents.analytic.filtered import FilteredPolicy
 from agents.analytic.ibvs_straight import StraightIBVSPolicy
-from agents.runner import make_env, run_episode
+from agents.rollouts import make_env, run_episode
+from agents.rows import episode_row
 
 CAMERA = {
     "mirror": "A",
@@ -37,7 +38,9 @@ def main() -> None:
     for smoothing, radius in itertools.product((0.0, 0.7, 0.85, 0.9), (0.02, 0.035, 0.05)):
         policy = FilteredPolicy(StraightIBVSPolicy(rotate_radius=radius), smoothing)
         env = make_env(policy, "random", {"physics": "kinematic", "camera": CAMERA})
-        rows = [run_episode(policy, env, seed=10_000 + k).row() for k in range(args.episodes)]
+        rows = [
+            episode_row(run_episode(policy, env, seed=10_000 + k)) for k in range(args.episodes)
+        ]
         ends = Counter(r["end"] for r in rows)
         parked = sum(bool(r["success"]) for r in rows)
         print(f"| {smoothing} | {radius} | {parked}/{args.episodes} | {dict(ends)} |", flush=True)

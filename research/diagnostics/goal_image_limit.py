@@ -43,7 +43,7 @@ from _common import imperfect_cameras, solve_one  # research/diagnostics/_common
 from agents.analytic import make_analytic
 from agents.experiments.suites import HELD_OUT_SEED
 from agents.learned.distill_config import PRIVILEGED, load_dagger_config
-from agents.runner import run_episode
+from agents.rollouts import run_episode
 from radial_ibvs_gym.geometry import relative_pose
 
 

@@ -25,8 +25,9 @@ from typing import Any
 import numpy as np
 
 from agents import make_policy
-from agents.experiments.suites import JUDGING, SUITES
-from agents.runner import make_env
+from agents.experiments.suites import SUITES
+from agents.rollouts import make_env
+from agents.rows import JUDGING
 
 
 def _variant(name: str) -> Any:

@@ -31,7 +31,7 @@ from agents.analytic import make_analytic
 from agents.analytic.docking import goal_frame, in_docking_cone
 from agents.learned.distill_config import PRIVILEGED
 from agents.learned.sb3_vec_env import make_vec_env
-from agents.runner import run_episode
+from agents.rollouts import run_episode
 
 BANDS = (0.0, 0.05, 0.15, 0.3, 0.6, 1.2, 2.5, np.inf)
 

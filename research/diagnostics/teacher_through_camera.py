@@ -36,7 +36,7 @@ from _common import imperfect_cameras, solve_one  # research/diagnostics/_common
 from agents.analytic import make_analytic
 from agents.experiments.suites import HELD_OUT_SEED
 from agents.learned.distill_config import PRIVILEGED, load_dagger_config
-from agents.runner import run_episode
+from agents.rollouts import run_episode
 
 
 def solved_robot_pose(obs: dict[str, Any]) -> np.ndarray | None:

@@ -1,0 +1,136 @@
+"""Batched evaluation gives the rows of one episode at a time: same seed, same episode.
+
+The benchmark steps a job's episodes together in the native vector env and calls each policy
+once per step for the batch (:mod:`agents.rollouts.vector`). For every analytic policy the
+rows equal the scalar runner's bit for bit (timing aside); for the networks, the same success
+and end in every episode here (the actions differ in the last bits of a matrix product).
+"""
+
+from __future__ import annotations
+
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+import pytest
+
+from agents import make_policy
+from agents.analytic.registry import ANALYTIC_POLICIES
+from agents.experiments import jobs
+from agents.experiments.suites import SUITES
+from agents.rollouts import batch_mode, make_env, run_episode, run_episodes
+from agents.rollouts.vector import batchable, run_batch
+from agents.rows import RUN_FIELDS
+
+TIMING = RUN_FIELDS
+
+
+def _variant(suite: str, label: str) -> Any:
+    return next(v for v in SUITES[suite] if v.label == label)
+
+
+#: variants that exercise the task cycle, random rooms, noise and drawn imperfections
+VARIANTS = [
+    ("paper", "d*", 4),
+    ("held-out", "random rooms", 3),
+    ("imperfect", "all together", 2),
+    ("imperfect", "drawn per episode", 2),
+]
+
+
+def _rows(job: jobs.Job, batched: bool, monkeypatch: pytest.MonkeyPatch) -> list[dict]:
+    if not batched:  # the rollouts read batch_mode when they run: None sends it one by one
+        import agents.rollouts as rollouts_module
+
+        monkeypatch.setattr(rollouts_module, "batch_mode", lambda policy: None)
+    result = jobs.run_job(job)
+    monkeypatch.undo()
+    assert result.skipped is None, result.skipped
+    return [{k: v for k, v in row.items() if k not in TIMING} for row in result.rows]
+
+
+@pytest.mark.parametrize("name", [*sorted(ANALYTIC_POLICIES), "random"])
+def test_every_analytic_policy_gives_the_same_rows_batched_bit_for_bit(
+    name: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    assert batch_mode(make_policy(name)) is not None
+    for suite, label, episodes in VARIANTS:
+        job = jobs.Job(name, _variant(suite, label), episodes, first=1)
+        assert _rows(job, True, monkeypatch) == _rows(job, False, monkeypatch), (suite, label)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("name", sorted(ANALYTIC_POLICIES))
+def test_every_analytic_policy_gives_the_same_rows_batched_in_a_long_chunk(
+    name: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    for suite, label in (("obstacles", "random rooms with obstacles"), ("noise", "2.0 px")):
+        job = jobs.Job(name, _variant(suite, label), 20)
+        assert _rows(job, True, monkeypatch) == _rows(job, False, monkeypatch), (suite, label)
+
+
+@pytest.mark.parametrize("name", ["dagger-student", "ppo-residual"])
+def test_learned_policies_end_the_same_episodes_batched(
+    name: str, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    job = jobs.Job(name, _variant("held-out", "random rooms"), 12)
+    batched, alone = _rows(job, True, monkeypatch), _rows(job, False, monkeypatch)
+    for a, b in zip(batched, alone, strict=True):
+        assert (a["seed"], a["success"], a["end"]) == (b["seed"], b["success"], b["end"])
+        assert abs(a["final_position_error_m"] - b["final_position_error_m"]) < 1e-4
+
+
+def test_a_log_is_the_scalar_runners_trajectory() -> None:
+    policy = make_policy("ibvs-straight")
+    kwargs = {"physics": "kinematic", "task": None}
+    seeds = [7, 3, 11]
+    logs = run_episodes(policy, seeds, "random", kwargs, policy_name="ibvs-straight")
+    assert {log.batch for log in logs} == {3}  # stepped together
+    env = make_env(policy, "random", kwargs)
+    for seed, log in zip(seeds, logs, strict=True):
+        alone = run_episode(policy, env, seed=seed, policy_name="ibvs-straight")
+        for field in ("poses", "actions", "points", "visible", "goal_points"):
+            np.testing.assert_array_equal(getattr(log, field), getattr(alone, field), field)
+        assert (log.seed, log.task, log.end, log.terminated) == (
+            alone.seed,
+            alone.task,
+            alone.end,
+            alone.terminated,
+        )
+
+
+def test_what_is_not_batched_says_why() -> None:
+    assert batchable("RadialIBVS/Parking-v0", {"physics": "kinematic"}) is None
+    assert "pymunk" in str(batchable("RadialIBVS/Parking-v0", {}))
+    assert "detected" in str(
+        batchable("RadialIBVS/Parking-v0", {"physics": "kinematic", "measurement": "detected"})
+    )
+    assert "no vector env" in str(batchable("RadialIBVS/ParkingImage-v0", {}))
+    with pytest.raises(ValueError, match="cannot be batched"):
+        run_batch(make_policy("ibvs"), [0], "RadialIBVS/Parking-v0", {"physics": "pymunk"})
+    physics = _variant("physics", "pymunk")
+    job = jobs.Job("ibvs", replace(physics, episodes=1), 1)
+    assert jobs.run_job(job).rows  # the scalar path runs it
+
+
+def test_the_policy_sees_only_the_robots_whose_episodes_go_on(
+    monkeypatch: pytest.MonkeyPatch,
+) -> None:
+    from agents.analytic.pbvs_ekf import PBVSEKFPolicy
+
+    sizes: list[int] = []
+    predict = PBVSEKFPolicy.predict
+
+    def recording(self, observation, state=None, episode_start=None, deterministic=True):
+        sizes.append(len(observation["points"]))
+        if state is not None:
+            assert len(state.started) == sizes[-1]  # the filters of those robots only
+        return predict(self, observation, state, episode_start, deterministic)
+
+    monkeypatch.setattr(PBVSEKFPolicy, "predict", recording)
+    logs = run_episodes(make_policy("pbvs-ekf"), [100_000 + k for k in range(6)], "random",
+                        {"physics": "kinematic"})  # fmt: skip
+    lengths = sorted(len(log.actions) for log in logs)
+    assert lengths[0] < lengths[-1]  # the episodes end at different steps
+    assert sizes[0] == 6 and sizes[-1] == sum(n == lengths[-1] for n in lengths)
+    assert sizes == sorted(sizes, reverse=True) and len(sizes) == lengths[-1]
