@@ -113,9 +113,9 @@ def run_episodes(
     ValueError
         For a bad argument.
     """
-    env_id = env_id_for(policy, env_id)
     kwargs = env_kwargs_for(policy, scenario, overrides)
     try:  # the env the policy needs, its observation checked against the policy's
+        env_id = env_id_for(policy, env_id)
         env = make_env(policy, scenario, overrides, env_id=env_id)
     except ValueError as error:
         raise EnvMismatchError(str(error)) from error

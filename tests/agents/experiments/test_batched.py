@@ -134,3 +134,30 @@ def test_the_policy_sees_only_the_robots_whose_episodes_go_on(
     assert lengths[0] < lengths[-1]  # the episodes end at different steps
     assert sizes[0] == 6 and sizes[-1] == sum(n == lengths[-1] for n in lengths)
     assert sizes == sorted(sizes, reverse=True) and len(sizes) == lengths[-1]
+
+
+def test_run_episodes_names_an_env_the_policy_cannot_run_in_and_draws_tasks_from_the_scenario():
+    from agents.rollouts import EnvMismatchError
+
+    class Misfit:  # a policy whose training env took an argument these envs do not
+        batch_mode = "batch"
+
+        def __init__(self) -> None:
+            self.env_kwargs = {"no_such_argument": 1}
+
+        def predict(self, observation, state=None, episode_start=None, deterministic=True):
+            raise AssertionError("never called: the env cannot be made")
+
+    with pytest.raises(EnvMismatchError, match="no_such_argument"):
+        run_episodes(Misfit(), [0], "random", {"physics": "kinematic"})
+    policy = make_policy("ibvs-straight")
+    with pytest.raises(ValueError, match="1 tasks for 2 seeds"):
+        run_episodes(policy, [0, 1], "paper-sim", {"physics": "kinematic"}, tasks=[0])
+    asked = []
+
+    def cycle(n_tasks: int) -> list[int]:  # the paper's four tasks, one per episode
+        asked.append(n_tasks)
+        return [k % n_tasks for k in range(5)]
+
+    logs = run_episodes(policy, range(5), "paper-sim", {"physics": "kinematic"}, tasks=cycle)
+    assert asked == [4] and [log.task for log in logs] == [0, 1, 2, 3, 0]
