@@ -9,8 +9,6 @@ from __future__ import annotations
 
 import json
 import re
-import subprocess
-import sys
 from html.parser import HTMLParser
 from pathlib import Path
 
@@ -118,15 +116,6 @@ def test_notebook_tables_are_markdown_outputs_that_the_site_parses_with_tables()
     assert not printed, f"tables printed as text: {printed}"
     conf = (ROOT / "docs" / "conf.py").read_text()
     assert re.search(r"""^nb_render_markdown_format\s*=\s*["'](myst|gfm)["']""", conf, re.M)
-
-
-@pytest.fixture(scope="module")
-def site(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    pytest.importorskip("sphinx")
-    out = tmp_path_factory.mktemp("site")
-    build = [sys.executable, "-m", "sphinx", "-E", "-W", "--keep-going", "-q", "-b", "html"]
-    subprocess.run([*build, str(ROOT / "docs"), str(out)], check=True, cwd=ROOT)
-    return out
 
 
 @pytest.mark.slow
