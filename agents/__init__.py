@@ -36,11 +36,11 @@ __all__ = [
 def __getattr__(name: str) -> Any:
     """Import :func:`make_vec_env` and ``save_model_dir`` on first use (they load SB3, torch)."""
     if name == "make_vec_env":
-        from agents.learned.sb3_vec_env import make_vec_env
+        from agents.learned.training.sb3_vec_env import make_vec_env
 
         return make_vec_env
     if name == "save_model_dir":
-        from agents.learned.saving import save_model_dir
+        from agents.learned.files.saving import save_model_dir
 
         return save_model_dir
     raise AttributeError(f"module 'agents' has no attribute {name!r}")

@@ -145,7 +145,7 @@ def make_policy(name: str, *, trust_pickle: bool = False, **kwargs: Any) -> Poli
     if name in _FACTORIES:
         return _FACTORIES[name](**kwargs)
     from agents.learned import load, shipped_models
-    from agents.learned.loading import is_bare_name
+    from agents.learned.files.loading import is_bare_name
 
     if name in shipped_models() or not is_bare_name(name):
         if kwargs:

@@ -4,9 +4,9 @@ Usage: ``python benchmarks/bench_camera.py [--envs 64 256] [--steps 100] [--repe
 
 With camera imperfections (drawn per episode here, as in domain-randomised training:
 ``research/configs/ppo_residual_dr.yaml``) every robot's landmarks are projected exactly through
-the non-central mirror. :func:`radial_ibvs_gym.envs.observation.camera_images` solves the
+the non-central mirror. :func:`radial_ibvs_gym.camera.measurement.camera_images` solves the
 reflection once for all the robots (:func:`radial_ibvs_gym.camera.forward_batch`); the
-"env by env" row replaces it with one :func:`~radial_ibvs_gym.envs.observation.camera_image` call
+"env by env" row replaces it with one :func:`~radial_ibvs_gym.camera.measurement.camera_image` call
 per robot, as the env did before. Both runs are seeded alike and send the same random actions,
 so they step the same trajectories (the batched path is bit-for-bit the same). The ideal
 camera (eq. 9 in closed form) is the ceiling. Env steps per second (robots times batched
@@ -24,7 +24,7 @@ import gymnasium as gym
 import numpy as np
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
-from radial_ibvs_gym.envs import observation as logic
+from radial_ibvs_gym.camera import measurement as logic
 
 KWARGS: dict[str, Any] = {
     "scenario": "random",

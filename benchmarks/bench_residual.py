@@ -28,8 +28,8 @@ from typing import Any
 import numpy as np
 
 from agents.analytic import ibvs_maths_batch
-from agents.learned.residual import ResidualConfig, ResidualVecEnv
-from agents.learned.sb3_vec_env import make_vec_env
+from agents.learned.networks.residual import ResidualConfig, ResidualVecEnv
+from agents.learned.training.sb3_vec_env import make_vec_env
 
 ENV_ID = "RadialIBVS/Parking-v0"
 #: the env of the shipped residual model (configs/agents/ppo_residual.yaml)

@@ -28,8 +28,8 @@ import numpy as np
 from stable_baselines3.common.vec_env import VecEnv
 
 from agents.learned import MODELS_DIR, shipped_models
-from agents.learned.training import train
-from agents.learned.zoo_config import load_train_config
+from agents.learned.training.train import train
+from agents.learned.training.zoo_config import load_train_config
 
 ROOT = Path(__file__).resolve().parents[1]
 #: the paper's IBVS success rate on the models' scenarios (2 cm / 2 deg; `radial-ibvs benchmark`:

@@ -49,15 +49,19 @@ def _modules(package: str) -> dict[str, Path]:
 MODULES = {**_modules("radial_ibvs_gym"), **_modules("agents")}
 
 
-def _imports(path: Path) -> set[str]:
-    """Every module named by an import in ``path``, except under ``if TYPE_CHECKING:``."""
+def _imports(path: Path, *, typing: bool = False) -> set[str]:
+    """Every module named by an import in ``path`` (under ``if TYPE_CHECKING:``: if ``typing``)."""
     tree = ast.parse(path.read_text(), filename=str(path))
-    typing_only = {
-        id(inner)
-        for node in ast.walk(tree)
-        if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test)
-        for inner in ast.walk(node)
-    }
+    typing_only = (
+        set()
+        if typing
+        else {
+            id(inner)
+            for node in ast.walk(tree)
+            if isinstance(node, ast.If) and "TYPE_CHECKING" in ast.unparse(node.test)
+            for inner in ast.walk(node)
+        }
+    )
     names: set[str] = set()
     for node in ast.walk(tree):
         if id(node) in typing_only:
@@ -97,7 +101,8 @@ def test_no_module_of_the_env_package_imports_agents() -> None:
 
 
 def test_the_import_graph_has_no_cycle() -> None:
-    graph = {m: {n for n in _imports(p) if n in MODULES} for m, p in MODULES.items()}
+    """No circle, not even through the imports made for type checking only."""
+    graph = {m: {n for n in _imports(p, typing=True) if n in MODULES} for m, p in MODULES.items()}
     state: dict[str, int] = {}  # 1: on the current path, 2: done
 
     def visit(module: str, path: list[str]) -> None:
@@ -116,13 +121,14 @@ def test_the_import_graph_has_no_cycle() -> None:
 
 
 #: the env package's modules by job, lower first: a module may import only lower ones (and
-#: ``missed``, the missed-detection draws, ``viewer``, the renderer, and ``autoreset``, the
-#: enum of Gymnasium >= 1.1, below them all)
+#: ``missed``, the missed-detection draws, ``viewer``, the renderer, ``autoreset``, the enum of
+#: Gymnasium >= 1.1, and ``slots``, the landmark slots, below them all)
 ENV_JOBS = (
-    ("missed", "viewer", "autoreset"),
-    ("rules", "observation", "vector_info"),
+    ("missed", "viewer", "autoreset", "slots"),
+    ("rules", "observation", "vector_info", "feature_errors"),
     ("config",),
     ("episodes",),
+    ("episode_batch",),
     ("parking", "parking_vector"),
     ("parking_goal", "parking_image"),
 )
@@ -194,6 +200,23 @@ def test_each_room_of_agents_imports_only_itself_and_lower_rooms(room: str) -> N
                 continue
             target = name if name in MODULES else name.rsplit(".", 1)[0]
             assert _room(target) in allowed, f"{module} ({room}) imports {name} ({_room(target)})"
+
+
+#: the groups of ``agents.learned``, lower first: a group imports only itself and lower ones
+LEARNED_GROUPS = ("networks", "files", "training", "dagger")
+
+
+def test_the_groups_of_agents_learned_import_one_way() -> None:
+    found = {m.split(".")[2] for m in MODULES if m.startswith("agents.learned.")}
+    assert found == set(LEARNED_GROUPS), f"group {sorted(found ^ set(LEARNED_GROUPS))}"
+    for module, path in MODULES.items():
+        if not module.startswith("agents.learned."):
+            continue
+        rank = LEARNED_GROUPS.index(module.split(".")[2])
+        for name in _imports(path):
+            if name.startswith("agents.learned."):
+                target = LEARNED_GROUPS.index(name.split(".")[2])
+                assert target <= rank, f"{module} imports {name}"
 
 
 def test_the_analytic_policies_import_no_learning_stack() -> None:
@@ -274,4 +297,7 @@ def test_the_tests_mirror_the_packages() -> None:
     for path in tests.rglob("test_*.py"):
         folder = path.parent.relative_to(tests).as_posix()
         if folder != ".":
-            assert folder in TEST_FOLDERS, f"{path.relative_to(ROOT)}: {folder} mirrors no package"
+            mirrored = folder in TEST_FOLDERS or (
+                folder.startswith("agents/") and (ROOT / folder / "__init__.py").is_file()
+            )  # a subpackage of agents (tests/agents/learned/training: the tests that train)
+            assert mirrored, f"{path.relative_to(ROOT)}: {folder} mirrors no package"

@@ -1,7 +1,7 @@
 """The planner's near-goal rules: how a teacher's commands stay learnable close to the goal.
 
 The ``planner`` (:class:`~agents.analytic.planner.MapPlanner`) follows its path turn-drive-turn;
-as a teacher for a student that sees only the image (:mod:`agents.learned.distill`), its
+as a teacher for a student that sees only the image (:mod:`agents.learned.dagger.distill`), its
 commands must be functions of what the image resolves near the goal. :class:`NearGoalRules`
 holds the rules that make them so, each off by default (the plain follower); the shipped
 student's config (``configs/agents/dagger_student.yaml``, ``teacher_kwargs``) sets them.
@@ -47,10 +47,10 @@ class NearGoalRules:
         ``0`` (the default): turn in place until heading within ``heading_tolerance``, then
         drive. ``> 0``: drive and turn together, the speed faded linearly from full at zero
         heading error to zero at ``drive_gate`` radians, so the command is a continuous
-        function of the pose (what a student can learn: :mod:`agents.learned.distill`).
+        function of the pose (what a student can learn: :mod:`agents.learned.dagger.distill`).
     reverse
         ``True`` (the default): drive forwards or backwards, whichever needs less turning.
-        ``False``: forwards only. A teacher (:mod:`agents.learned.distill`) uses ``False``:
+        ``False``: forwards only. A teacher (:mod:`agents.learned.dagger.distill`) uses ``False``:
         with reversing, the turn's sign flips where the waypoint is abeam (90 deg), exactly
         where a student that drove past the goal ends up, and a student that averages the
         two labels there stands still.
@@ -58,7 +58,8 @@ class NearGoalRules:
         ``0`` (the default): the follower drives the whole path. ``> 0``: within this distance
         of the goal, on the path's last segment, the paper's smooth control law on the true
         poses (the ``oracle``, :class:`~agents.analytic.pose_oracle.PoseOracle`) takes over,
-        metres. A teacher (:mod:`agents.learned.distill`) uses it: near the goal the follower's
+        metres. A teacher (:mod:`agents.learned.dagger.distill`) uses it: near the goal the
+        follower's
         turn-creep-turn depends on millimetres, which an image-only student cannot see, while
         the smooth law is a continuous function of the pose.
     approach, approach_limit
@@ -67,7 +68,7 @@ class NearGoalRules:
         ``min(approach * d, approach_limit)`` metres behind it at a distance ``d``, so the
         path bends to arrive along the goal heading and the aim still closes on the goal (a
         continuous function of the pose, with no state). A teacher
-        (:mod:`agents.learned.distill`) uses it: a student that arrives with the goal heading
+        (:mod:`agents.learned.dagger.distill`) uses it: a student that arrives with the goal heading
         has little turning left at the goal, where the image resolves the least.
     align_radius
         ``0`` (the default): off. ``> goal_tolerance``: near the goal, on the path's last
@@ -79,7 +80,7 @@ class NearGoalRules:
         away), but where the goal lies dead behind the robot beyond ``goal_tolerance`` (the
         forwards-only drive's turn flips sign there, while the alignment backs up), and the
         alignment never increases the distance to the goal. A teacher
-        (:mod:`agents.learned.distill`) uses it instead of ``final_radius``: the smooth law's
+        (:mod:`agents.learned.dagger.distill`) uses it instead of ``final_radius``: the smooth law's
         turn near the goal flips sign over centimetres, which an image-only student averages
         into a stall. Exclusive with ``final_radius``.
     align_unblock
@@ -100,7 +101,7 @@ class NearGoalRules:
         ``line_speed`` m/s (keep its steering gain, ``2 sqrt(line_lateral_gain) *
         line_speed``, below ``1 / control_dt``: 4.5/s by default). Its turn near the goal is
         mostly the heading error, which an image resolves, where the follower's is the
-        bearing to a point centimetres away. A teacher (:mod:`agents.learned.distill`) uses
+        bearing to a point centimetres away. A teacher (:mod:`agents.learned.dagger.distill`) uses
         it with ``approach``, which brings the robot into the cone.
     turn_radius, turn_gain
         ``0`` (the default): off. ``> 0``: within ``turn_radius`` metres of the goal, on the
@@ -108,7 +109,7 @@ class NearGoalRules:
         (:func:`~agents.analytic.docking.turn_in_place`, proportional gain ``turn_gain``, 1/s,
         below ``1 / control_dt``), before any other rule. Set it under the env's success
         radius: the episode then succeeds once the heading is within tolerance. A teacher
-        (:mod:`agents.learned.distill`) uses it: its label there is a function of the heading
+        (:mod:`agents.learned.dagger.distill`) uses it: its label there is a function of the heading
         error alone, and a larger gain than ``gain`` makes the last degrees' turn labels
         larger than an image-only student's fitting error.
     turn_floor

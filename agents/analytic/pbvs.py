@@ -3,7 +3,7 @@
 Image-only, like the IBVS (no map, no true pose): each landmark seen now and in the goal image
 constrains the goal's planar pose linearly, and :func:`solve_goal_pose` solves those
 constraints jointly in closed form (least squares, the same solve as the first layer of the
-``dagger-student``, :func:`agents.learned.pose_layer.solve_goal_pose`, here in numpy:
+``dagger-student``, :func:`agents.learned.networks.pose_layer.solve_goal_pose`, here in numpy:
 :func:`radial_ibvs_gym.geometry.bearing_pose.solve_goal_pose`, whose docstring states the
 constraints). The pose then drives the paper's smooth law (eq. 38) as the pose oracle does
 with the true poses: :class:`PBVSPolicy` is Fig. 3's "exact 3D parameters" replaced by the

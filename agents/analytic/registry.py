@@ -1,7 +1,7 @@
 """The analytic policies by name: the IBVS variants and the pose oracle (no learning).
 
 :mod:`agents.registry` adds the random floor and the learned models to these;
-:mod:`agents.learned.residual` takes its base policy from here.
+:mod:`agents.learned.networks.residual` takes its base policy from here.
 """
 
 from __future__ import annotations

@@ -45,7 +45,7 @@ def run(args: argparse.Namespace) -> int:
     """Run ``radial-ibvs collect``; returns the exit code."""
     from agents.experiments.collect import collect
     from agents.experiments.evaluate import parse_env_kwargs
-    from agents.learned.datasets import load_collected
+    from agents.learned.dagger.datasets import load_collected
 
     path = collect(
         args.policy,

@@ -43,7 +43,7 @@ def run(args: argparse.Namespace) -> int:
     import dataclasses
 
     from agents.experiments.evaluate import parse_env_kwargs
-    from agents.learned.distill import dagger, load_dagger_config
+    from agents.learned.dagger.distill import dagger, load_dagger_config
 
     config = load_dagger_config(args.config)
     overrides = parse_env_kwargs(args.env_kwarg)

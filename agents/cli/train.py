@@ -55,8 +55,8 @@ def run(args: argparse.Namespace) -> int:
     import dataclasses
 
     from agents.experiments.evaluate import parse_env_kwargs
-    from agents.learned.training import train
-    from agents.learned.zoo_config import load_train_config
+    from agents.learned.training.train import train
+    from agents.learned.training.zoo_config import load_train_config
 
     config = load_train_config(args.config, args.env_id)
     overrides = parse_env_kwargs(args.env_kwarg)

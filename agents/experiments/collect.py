@@ -4,7 +4,7 @@ The dataset is written locally (``DIR/<dataset_id>``, Minari's HDF5 layout); not
 hub. Its observations are the env's whole ``Dict`` observation: by default the features
 observation of the learned models (``obs_mode="features"``, goal depths, 16 landmark slots)
 plus whatever the policy needs (the planner's poses and map), so a student can be distilled
-from a teacher's dataset (the ``initial_dataset`` of :mod:`agents.learned.distill`). Each
+from a teacher's dataset (the ``initial_dataset`` of :mod:`agents.learned.dagger.distill`). Each
 episode keeps its ``info`` (``is_success``, the errors, the reward terms...) as Minari's
 ``infos``: one row for the reset and one per step.
 """
@@ -18,7 +18,7 @@ from typing import Any
 
 import numpy as np
 
-from agents.learned.datasets import datasets_path, minari_module
+from agents.learned.dagger.datasets import datasets_path, minari_module
 from agents.registry import make_policy
 from agents.rollouts import make_env
 

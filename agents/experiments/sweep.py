@@ -110,10 +110,10 @@ def _train_seed(run: SeedRun) -> bytes:
     """Train one seed in a scratch directory; return the model directory as a zip archive."""
     import torch
 
-    from agents.learned.distill import dagger
-    from agents.learned.distill_config import load_dagger_config
-    from agents.learned.training import train
-    from agents.learned.zoo_config import load_train_config
+    from agents.learned.dagger.distill import dagger
+    from agents.learned.dagger.distill_config import load_dagger_config
+    from agents.learned.training.train import train
+    from agents.learned.training.zoo_config import load_train_config
 
     torch.set_num_threads(1)
     remove_stale_scratch()
@@ -175,8 +175,9 @@ def run_sweep(
     Parameters
     ----------
     config
-        The training config (:func:`agents.learned.zoo_config.load_train_config`), or a DAgger
-        config (:func:`agents.learned.distill_config.load_dagger_config`; its students train
+        The training config (:func:`agents.learned.training.zoo_config.load_train_config`), or a
+        DAgger
+        config (:func:`agents.learned.dagger.distill_config.load_dagger_config`; its students train
         as ``radial-ibvs distill`` does, and ``algo``, ``env_id`` and ``total_timesteps`` must
         be left at their defaults); validated here first.
     seeds
@@ -207,9 +208,9 @@ def run_sweep(
     ValueError
         For a bad config, repeated seeds, an unknown backend or algo, or Ray missing.
     """
-    from agents.learned.distill_config import load_dagger_config
-    from agents.learned.training import ALGOS
-    from agents.learned.zoo_config import load_train_config
+    from agents.learned.dagger.distill_config import load_dagger_config
+    from agents.learned.training.train import ALGOS
+    from agents.learned.training.zoo_config import load_train_config
 
     config_path = Path(config)
     if not config_path.is_file():

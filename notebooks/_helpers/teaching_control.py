@@ -38,7 +38,7 @@ from numpy.typing import ArrayLike, NDArray
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from agents.analytic.ibvs_policy import IBVSPolicy
 from agents.experiments.benchmark_plots import draw_convergence_map, starts_in_goal_frame
-from agents.learned.zoo_config import TrainConfig
+from agents.learned.training.zoo_config import TrainConfig
 from agents.rollouts import EpisodeLog, make_env, run_episode
 from radial_ibvs_gym._validation import as_float_array
 from radial_ibvs_gym.camera import radial_points
@@ -297,7 +297,7 @@ def small_train_config(
     Parameters
     ----------
     config
-        The config (:func:`agents.learned.zoo_config.load_train_config`).
+        The config (:func:`agents.learned.training.zoo_config.load_train_config`).
     n_envs
         Parallel envs.
     n_steps

@@ -10,6 +10,8 @@
 - :mod:`.radial`: the radial model, pixels or 3D points to the unit circle (eq. 4-9);
 - :mod:`.presets`: the paper's mirrors A and B with a 6 mm lens;
 - :mod:`.spec`: camera configs loaded from ``configs/cameras/*.yaml``;
+- :mod:`.measurement`: normalised image points as an imperfect, calibrated camera measures
+  them (eq. 7 with the nominal calibration);
 - :mod:`.diagnostics`: eq. (7) on projected pixels against eq. (9), the mirror's circles in
   the image.
 """
@@ -17,6 +19,7 @@
 from radial_ibvs_gym.camera.batch import forward_batch, shares_reflection
 from radial_ibvs_gym.camera.catadioptric import CatadioptricCamera, Imperfections, Projection
 from radial_ibvs_gym.camera.diagnostics import invariance_errors, mirror_circle_pixels
+from radial_ibvs_gym.camera.measurement import camera_image, camera_images
 from radial_ibvs_gym.camera.mirrors import (
     Cone,
     Ellipsoid,
@@ -46,6 +49,8 @@ __all__ = [
     "QuadricMirror",
     "RadialPoints",
     "Sphere",
+    "camera_image",
+    "camera_images",
     "forward_batch",
     "invariance_errors",
     "load_camera",

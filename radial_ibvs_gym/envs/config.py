@@ -21,8 +21,8 @@ import numpy as np
 
 from radial_ibvs_gym.config import did_you_mean, short
 from radial_ibvs_gym.envs.missed import MissedDetections
-from radial_ibvs_gym.envs.observation import Slots
 from radial_ibvs_gym.envs.rules import SUCCESS_TOLERANCES, TASK_TOLERANCE
+from radial_ibvs_gym.envs.slots import Slots
 from radial_ibvs_gym.features import pair_indices
 from radial_ibvs_gym.limits import MAX_SUBSTEPS
 from radial_ibvs_gym.physics import BACKENDS, RobotConfig

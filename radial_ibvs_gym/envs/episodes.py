@@ -18,14 +18,11 @@ from typing import Any
 import numpy as np
 
 from radial_ibvs_gym.camera import Imperfections
+from radial_ibvs_gym.camera.measurement import camera_image, camera_images
 from radial_ibvs_gym.envs.config import ParkingConfig
+from radial_ibvs_gym.envs.feature_errors import unit_or_dummy
 from radial_ibvs_gym.envs.missed import MissedState
-from radial_ibvs_gym.envs.observation import (
-    camera_image,
-    camera_images,
-    radial_image,
-    unit_or_dummy,
-)
+from radial_ibvs_gym.envs.observation import radial_image
 from radial_ibvs_gym.features import c_ij
 from radial_ibvs_gym.geometry import world_to_camera, wrap_angle_scalar
 from radial_ibvs_gym.geometry.bearing_pose import solve_goal_pose
@@ -297,7 +294,7 @@ class EpisodeSource:
 
         An ideal camera gives eq. (9) exactly (:func:`~radial_ibvs_gym.envs.radial_image`);
         a camera with imperfections is simulated as the paper's set-up measures
-        (:func:`~radial_ibvs_gym.envs.camera_image`, pixel noise from ``rng``).
+        (:func:`~radial_ibvs_gym.camera.measurement.camera_image`, pixel noise from ``rng``).
 
         Parameters
         ----------

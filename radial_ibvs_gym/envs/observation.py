@@ -5,24 +5,21 @@ no batch dimension) and the native vector env
 (:class:`~radial_ibvs_gym.envs.parking_vector.ParkingVectorEnv`, a leading ``(B,)`` batch of
 envs): every function is elementwise over leading dimensions, so the two cannot drift apart.
 The task's rules (errors, reward, episode end, ``info``) are in :mod:`~radial_ibvs_gym.envs.rules`.
-Frames and units as everywhere (world frame, metres, radians). A little over 450 lines, kept
-whole: one job (the observation), shared by both envs, and splitting it would split that contract.
+Frames and units as everywhere (world frame, metres, radians). Measuring through an imperfect
+camera is in :mod:`~radial_ibvs_gym.camera.measurement`, the landmark slots in
+:mod:`~radial_ibvs_gym.envs.slots`.
 """
 
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from typing import TYPE_CHECKING, Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from radial_ibvs_gym.camera import CatadioptricCamera, normalise_pixels
-from radial_ibvs_gym.camera.batch import forward_batch, shares_reflection
-from radial_ibvs_gym.features import c_ij, virtual_point_weights
-from radial_ibvs_gym.geometry import wrap_angle
-from radial_ibvs_gym.limits import MAX_LANDMARKS
+from radial_ibvs_gym.envs.slots import Slots
 
 if TYPE_CHECKING:
     from gymnasium import spaces
@@ -30,16 +27,10 @@ if TYPE_CHECKING:
     from radial_ibvs_gym.envs.config import ParkingConfig
 
 __all__ = [
-    "Slots",
-    "camera_image",
-    "camera_images",
-    "feature_errors",
     "goal_observation",
-    "goal_weights",
     "observation",
     "observation_space",
     "radial_image",
-    "unit_or_dummy",
 ]
 
 Array = NDArray[np.float64]
@@ -86,154 +77,6 @@ def radial_image(
     return w.view(np.float64).reshape(*w.shape, 2), visible
 
 
-def camera_image(
-    camera: CatadioptricCamera, p_cam: Array, rng: np.random.Generator | None
-) -> tuple[Array, NDArray[np.bool_]]:
-    """Normalised image points of a real camera, measured as the paper's set-up does.
-
-    Exact projection through the mirror with the true intrinsics, tilt and offset, pixel noise
-    from ``rng``, then eq. (7) with the *nominal* principal point and ``rho_f``. An ideal
-    concave (self-occluding) mirror is handled exactly without the projection.
-
-    Parameters
-    ----------
-    camera
-        The camera (one env's).
-    p_cam
-        ``(N, 3)`` landmarks in the camera frame, metres.
-    rng
-        The env's generator (pixel noise); ``None``: no noise.
-
-    Returns
-    -------
-    points, visible
-        ``(N, 2)`` (zeros where hidden) and ``(N,)``.
-    """
-    if not camera.imperfections.any:  # an on-axis concave mirror: exact visibility
-        visible = camera.visible(p_cam, validate=False)
-        d = np.hypot(p_cam[:, 0], p_cam[:, 1])
-        return p_cam[:, :2] * (visible / np.maximum(d, 1e-300))[:, None], visible
-    proj = camera.forward(p_cam, rng=rng)
-    k = camera.intrinsics
-    pixels = np.where(proj.visible[:, None], proj.pixels, k.principal_point + 1.0)
-    x_n = normalise_pixels(pixels, k.principal_point, k.rho_f)
-    return np.where(proj.visible[:, None], x_n, 0.0), proj.visible
-
-
-def camera_images(
-    cameras: Sequence[CatadioptricCamera],
-    p_cam: Array,
-    rngs: Sequence[np.random.Generator | None],
-) -> tuple[Array, NDArray[np.bool_]]:
-    """:func:`camera_image` for ``K`` cameras at once, each with its own generator.
-
-    The cameras with imperfections that share the mirror's reflection
-    (:func:`~radial_ibvs_gym.camera.batch.shares_reflection`) are projected in one batched
-    root-find (:func:`~radial_ibvs_gym.camera.batch.forward_batch`); the result is, row for
-    row and bit for bit, what :func:`camera_image` gives each camera.
-
-    Parameters
-    ----------
-    cameras
-        ``K`` cameras (one per env).
-    p_cam
-        ``(K, N, 3)`` landmarks, row ``k`` in camera ``k``'s frame, metres.
-    rngs
-        ``K`` generators (pixel noise; ``None``: none).
-
-    Returns
-    -------
-    points, visible
-        ``(K, N, 2)`` (zeros where hidden) and ``(K, N)``.
-    """
-    k, n = p_cam.shape[:2]
-    points = np.zeros((k, n, 2))
-    visible = np.zeros((k, n), dtype=bool)
-    batched = [i for i, c in enumerate(cameras) if c.imperfections.any]
-    for i in sorted(set(range(k)) - set(batched)):
-        points[i], visible[i] = camera_image(cameras[i], p_cam[i], rngs[i])
-    group = [cameras[i] for i in batched]
-    if len(group) < 2 or not shares_reflection(group):
-        for i in batched:
-            points[i], visible[i] = camera_image(cameras[i], p_cam[i], rngs[i])
-        return points, visible
-    proj = forward_batch(group, p_cam[batched], [rngs[i] for i in batched])
-    nominal = group[0].intrinsics  # shared by the group
-    pixels = np.where(proj.visible[..., None], proj.pixels, nominal.principal_point + 1.0)
-    x_n = normalise_pixels(pixels, nominal.principal_point, nominal.rho_f)
-    points[batched] = np.where(proj.visible[..., None], x_n, 0.0)
-    visible[batched] = proj.visible
-    return points, visible
-
-
-def unit_or_dummy(points: Array, mask: NDArray[np.bool_]) -> Array:
-    """Hidden points (zeros) replaced by ``(1, 0)``: the features need unit vectors.
-
-    The pairs with a hidden point are masked out afterwards.
-    """
-    return np.where(mask[..., None], points, np.array([1.0, 0.0]))
-
-
-def goal_weights(goal_points: Array, mask: NDArray[np.bool_]) -> Array | None:
-    """Virtual-point weights (eq. 27-29) of the goal points in ``mask``, as an ``(N,)`` vector.
-
-    Zero outside ``mask``; ``None`` when fewer than 2 points are in it or they are collinear
-    with the axis (no virtual point).
-    """
-    if mask.sum() < 2:
-        return None
-    try:
-        a = virtual_point_weights(goal_points[mask])
-    except ValueError:  # goal points collinear with the axis: no virtual point
-        return None
-    full = np.zeros(mask.shape, dtype=np.float64)
-    full[mask] = a
-    return full
-
-
-def feature_errors(
-    points: Array,
-    both: NDArray[np.bool_],
-    c_goal: Array,
-    pairs: tuple[NDArray[np.intp], NDArray[np.intp]],
-    weights: Array,
-    has_weights: Any,
-) -> tuple[Array, Array]:
-    """Feature errors ``c*_ij - c_ij`` and ``alpha_m* - alpha_m`` (eq. 12, 19-29).
-
-    Parameters
-    ----------
-    points
-        ``(..., N, 2)`` current image points (zeros where hidden).
-    both
-        ``(..., N)`` visible now and in the goal image.
-    c_goal
-        ``(..., M)`` the goal image's ``c*_ij``.
-    pairs
-        The ``(i, j)`` index arrays of the ``M`` pairs.
-    weights
-        ``(..., N)`` the goal's virtual-point weights over ``both`` (:func:`goal_weights`; zero
-        outside ``both``).
-    has_weights
-        ``(...)`` whether a virtual point exists (else ``alpha_m`` error is 0).
-
-    Returns
-    -------
-    c_error
-        ``(..., M)``, 0 for pairs with a point not in ``both``.
-    alpha_m_error
-        ``(..., 1)`` radians: the goal's virtual point is ``(1, 0)`` by construction, so the
-        error is ``-alpha_m`` of the current virtual point ``sum_i a_i x_ni``.
-    """
-    i, j = pairs
-    pair_ok = both[..., i] & both[..., j]
-    c_now = c_ij(unit_or_dummy(points, both))
-    c_err = np.where(pair_ok, c_goal - c_now, 0.0)
-    p_now = (weights[..., None] * points).sum(axis=-2)
-    alpha = np.where(has_weights, wrap_angle(-np.arctan2(p_now[..., 1], p_now[..., 0])), 0.0)
-    return c_err, alpha[..., None]
-
-
 def observation(
     points: Array,
     goal_points: Array,
@@ -265,12 +108,13 @@ def observation(
         ``(..., N)`` (complex ``x + i y``) whose horizontal distances to the robot become
         ``depths``.
     slots
-        Pad the landmark axis to a fixed number of slots (:class:`Slots`, the env's
-        ``max_landmarks``), with zeros, and add ``landmark_mask`` (1 for the scene's
-        landmarks): one observation space for any scene with at most that many landmarks.
+        Pad the landmark axis to a fixed number of slots
+        (:class:`~radial_ibvs_gym.envs.slots.Slots`, the env's ``max_landmarks``), with
+        zeros, and add ``landmark_mask`` (1 for the scene's landmarks): one observation
+        space for any scene with at most that many landmarks.
     slot_order
         With ``slots``: ``(..., N)`` the slot of each landmark (``None``: landmark ``n`` in
-        slot ``n``; :meth:`Slots.pad`).
+        slot ``n``; :meth:`~radial_ibvs_gym.envs.slots.Slots.pad`).
     """
     obs: dict[str, NDArray[Any]] = {
         "points": np.asarray(points, dtype=np.float32),
@@ -289,108 +133,6 @@ def observation(
         position = pose[..., 0:1] + 1j * pose[..., 1:2]
         obs["depths"] = np.abs(landmarks - position).astype(np.float32)
     return obs if slots is None else slots.pad(obs, slot_order)
-
-
-class Slots:
-    """A fixed number of landmark slots: pads observations of ``N <= M`` landmarks to ``M``.
-
-    Parameters
-    ----------
-    n
-        The scene's landmarks ``N``.
-    m
-        The slots ``M`` (>= ``N``).
-    """
-
-    #: the keys with one entry per landmark, and how many values per entry
-    PER_LANDMARK: Mapping[str, int] = {
-        "points": 2,
-        "goal_points": 2,
-        "visible": 1,
-        "goal_depths": 1,
-        "depths": 1,
-    }
-
-    def __init__(self, n: int, m: int) -> None:
-        if not (2 <= n <= m):
-            raise ValueError(f"max_landmarks must be >= the scene's {n} landmarks, got {m!r}")
-        if m > MAX_LANDMARKS:
-            raise ValueError(
-                f"max_landmarks must be at most MAX_LANDMARKS = {MAX_LANDMARKS}, got {m}"
-            )
-        self.n, self.m = int(n), int(m)
-        i, j = np.triu_indices(n, 1)
-        # the position of pair (i, j) among the M slots' pairs, in row-major order
-        self.pair_slots = (i * (2 * m - i - 1)) // 2 + (j - i - 1)
-        self.mask = np.zeros(m, dtype=np.float32)
-        self.mask[:n] = 1.0
-
-    def pair_index(self, order: NDArray[np.intp]) -> NDArray[np.intp]:
-        """Return where each landmark pair ``(i, j)``, ``i < j``, lies among the slots' pairs.
-
-        Parameters
-        ----------
-        order
-            ``(..., N)`` the slot of each landmark (distinct, in ``0..M-1``).
-
-        Returns
-        -------
-        ``(..., N (N - 1) / 2)`` indices into the ``M (M - 1) / 2`` pairs, in row-major order
-        of the slots (a pair is unordered: ``c_ij`` is symmetric).
-        """
-        i, j = np.triu_indices(self.n, 1)
-        a = np.minimum(order[..., i], order[..., j])
-        b = np.maximum(order[..., i], order[..., j])
-        return (a * (2 * self.m - a - 1)) // 2 + (b - a - 1)
-
-    def draw_order(self, rng: np.random.Generator) -> NDArray[np.intp]:
-        """Draw the slots of an episode's landmarks: ``(N,)`` distinct slots in ``0..M-1``."""
-        return rng.permutation(self.m)[: self.n].astype(np.intp)
-
-    def pad(
-        self, obs: dict[str, NDArray[Any]], order: NDArray[np.intp] | None = None
-    ) -> dict[str, NDArray[Any]]:
-        """Return ``obs`` with its landmark axes padded to ``M`` and ``landmark_mask`` added.
-
-        Parameters
-        ----------
-        obs
-            The observation of ``N`` landmarks, leading dimensions ``(...)``.
-        order
-            ``None``: landmark ``n`` in slot ``n``. Else ``(N,)`` or ``(..., N)`` the slot of
-            each landmark (:meth:`draw_order`; one row per leading index).
-        """
-        lead = obs["visible"].shape[:-1]
-        if order is not None:
-            order = np.broadcast_to(np.asarray(order, dtype=np.intp), (*lead, self.n))
-        out: dict[str, NDArray[Any]] = {}
-        for key, value in obs.items():
-            width = self.PER_LANDMARK.get(key)
-            if width is not None:
-                padded = np.zeros((*value.shape[:-1], width * self.m), dtype=value.dtype)
-                if order is None:
-                    padded[..., : width * self.n] = value
-                else:
-                    columns = order[..., :, None] * width + np.arange(width)
-                    np.put_along_axis(padded, columns.reshape(*lead, -1), value, axis=-1)
-                out[key] = padded
-            elif key == "c_error":
-                pairs = self.m * (self.m - 1) // 2
-                padded = np.zeros((*value.shape[:-1], pairs), dtype=value.dtype)
-                if order is None:
-                    padded[..., self.pair_slots] = value
-                else:
-                    np.put_along_axis(padded, self.pair_index(order), value, axis=-1)
-                out[key] = padded
-            else:
-                out[key] = value
-        if order is None:
-            out["landmark_mask"] = np.broadcast_to(self.mask, (*lead, self.m)).copy()
-        else:
-            mask = np.zeros((*lead, self.m), dtype=np.float32)
-            np.put_along_axis(mask, order, 1.0, axis=-1)
-            out["landmark_mask"] = mask
-        return out
 
 
 def goal_observation(

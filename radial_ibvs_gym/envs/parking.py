@@ -4,7 +4,7 @@ The env's jobs live in their own modules: its arguments in :mod:`~radial_ibvs_gy
 drawing an episode and its goal image in :mod:`~radial_ibvs_gym.envs.episodes`, what the robot
 sees in :mod:`~radial_ibvs_gym.envs.observation`, the task's rules (errors, reward, episode end,
 ``info``) in :mod:`~radial_ibvs_gym.envs.rules`. This module steps, resets and renders.
-Its length (about 490 lines) is mostly the class docstring: Gymnasium's layout of an env's
+Its length (about 510 lines) is mostly the class docstring: Gymnasium's layout of an env's
 documentation (spaces, rewards, episode end, the arguments' table), which the site renders.
 """
 
@@ -21,13 +21,17 @@ from radial_ibvs_gym.envs import observation as seen
 from radial_ibvs_gym.envs import rules
 from radial_ibvs_gym.envs.config import ParkingConfig
 from radial_ibvs_gym.envs.episodes import EpisodeSetup, EpisodeSource
-from radial_ibvs_gym.geometry import world_to_camera
+from radial_ibvs_gym.envs.feature_errors import FeatureErrors
+from radial_ibvs_gym.envs.slots import Slots
 from radial_ibvs_gym.physics import RobotConfig, World, make_world, wheels_to_twist
 from radial_ibvs_gym.scenarios import Episode, Scenario
 from radial_ibvs_gym.vision import ImageQuality
 from radial_ibvs_gym.vision.pipeline import DetectedPoints
 
 __all__ = ["EpisodeSetup", "ParkingEnv"]
+
+#: the one row of a scalar env's feature errors
+_ROW = np.zeros(1, dtype=np.intp)
 
 
 class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
@@ -209,6 +213,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._setup: EpisodeSetup | None = None
         self._prev_errors: tuple[Any, Any] = (0.0, 0.0)
         self._held = 0  # steps in a row within the tolerances (success_hold_steps)
+        self._features: FeatureErrors | None = None  # obs_mode="features": set at reset
 
     # --- the config's values that users and wrappers read ---------------------------------------
     @property
@@ -222,7 +227,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         return self.config.robot
 
     @property
-    def slots(self) -> seen.Slots | None:
+    def slots(self) -> Slots | None:
         """The landmark slots (``max_landmarks``), or ``None``."""
         return self.config.slots
 
@@ -288,9 +293,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             held=self._held,
             hold_steps=config.success_hold_steps,
         )
-        terms = rules.reward_terms(
-            self._prev_errors, now, result.collision, lost, success, config.weights
-        )
+        terms = self._reward_terms(self._prev_errors, now, result.collision, lost, success)
         self._prev_errors = now
         info = self._info(result.pose, now, bool(success), result.collision, bool(lost))
         info.update(rules.reward_info(terms, np.float64))
@@ -321,11 +324,15 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         obstacles = tuple(tuple(o) for o in episode.obstacles.tolist())
         self.world = make_world(config.physics, config.robot, room, obstacles=obstacles, **extra)
         self.world.reset(episode.start)
+        self._features = None
         if config.obs_mode == "features":
-            self._weights_cache: dict[bytes, np.ndarray | None] = {}
+            assert setup.c_goal is not None
+            self._features = FeatureErrors(1, len(setup.goal_points), config.pairs)
+            self._features.start(0, setup.c_goal, setup.goal_points)
         if self._detector is not None:
             self._points, self._visible = self._detector.initial()
             self._n_visible = int(np.count_nonzero(self._visible))
+            self._update_features()
         else:
             self._observe(episode.start)
         self._prev_errors = rules.pose_errors(episode.start.tolist(), self._goal)
@@ -337,12 +344,6 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         info = self._info(episode.start, self._prev_errors, False, False)
         info |= rules.reward_info(dict.fromkeys(self.reward_term_names, np.float64(0.0)))
         return self._obs(), info
-
-    def setup_episode(
-        self, rng: np.random.Generator, task: int | None, options: dict[str, Any]
-    ) -> EpisodeSetup:
-        """Draw an episode and take its goal image (:meth:`EpisodeSource.setup_episode`)."""
-        return self.episodes.setup_episode(rng, task, options)
 
     # --- rendering -----------------------------------------------------------------------------
     def _status(self) -> str:
@@ -399,11 +400,6 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             del self._window
 
     # --- helpers -------------------------------------------------------------------------------
-    def _to_camera(self, pose: np.ndarray) -> np.ndarray:
-        assert self.episode is not None
-        h = self.config.scenario.config.camera_height
-        return world_to_camera(self.episode.landmarks, pose, h, validate=False)
-
     def image(
         self, setup: EpisodeSetup, pose: np.ndarray, which: str, rng: np.random.Generator
     ) -> tuple[np.ndarray, np.ndarray]:
@@ -413,10 +409,6 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         ``"goal"`` (its goal camera); ``pose`` ``(3,)`` metres and radians.
         """
         return self.episodes.image(setup, pose, which, rng)
-
-    def map_observation(self, episode: Episode) -> dict[str, np.ndarray]:
-        """Return the privileged map of an episode (:meth:`EpisodeSource.map_observation`)."""
-        return self.episodes.map_observation(episode)
 
     def _observe(self, pose: np.ndarray) -> None:
         assert self._setup is not None
@@ -429,22 +421,35 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             if self._setup.missed is not None:
                 self._points, self._visible = self._setup.missed.apply(self._points, self._visible)
         self._n_visible = int(np.count_nonzero(self._visible))
+        self._update_features()
 
-    def _feature_errors(self) -> tuple[np.ndarray, np.ndarray]:
-        assert self._setup is not None and self._setup.c_goal is not None
-        both = self._visible & self._setup.goal_visible
-        key = both.tobytes()
-        if key not in self._weights_cache:
-            self._weights_cache[key] = seen.goal_weights(self._setup.goal_points, both)
-        a = self._weights_cache[key]
-        return seen.feature_errors(
-            self._points,
-            both,
-            self._setup.c_goal,
-            self.config.pairs,
-            np.zeros(len(both)) if a is None else a,
-            np.bool_(a is not None),
-        )
+    def _update_features(self) -> None:
+        """Take the landmarks visible now and in the goal image (``obs_mode="features"``)."""
+        if self._features is not None:
+            assert self._setup is not None
+            both = self._visible & self._setup.goal_visible
+            self._features.update(_ROW, both[None])
+
+    def _reward_terms(
+        self,
+        previous: tuple[Any, Any],
+        now: tuple[Any, Any],
+        collision: Any,
+        lost: Any,
+        success: Any,
+    ) -> dict[str, Any]:
+        """Return the step's named reward terms (the reward hook, the vector env's too).
+
+        ``previous`` and ``now`` are the pose errors (metres, radians) before and after the
+        step. ``Parking-v0``'s terms (:func:`~radial_ibvs_gym.envs.rules.reward_terms`);
+        ``ParkingGoal-v1`` overrides it with its goal reward.
+        """
+        return rules.reward_terms(previous, now, collision, lost, success, self.config.weights)
+
+    def _images(self) -> tuple[np.ndarray, np.ndarray]:
+        """Return the current and the goal image points, ``(N, 2)`` each (zeros where hidden)."""
+        assert self._setup is not None
+        return self._points, self._setup.goal_points
 
     def _obs(self) -> dict[str, np.ndarray]:
         assert self._setup is not None
@@ -457,9 +462,9 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         assert self._setup is not None
         config = self.config
         features = None
-        if config.obs_mode == "features":
-            c_err, a_err = self._feature_errors()
-            features = {"c_error": c_err, "alpha_m_error": a_err}
+        if self._features is not None:
+            c_err, a_err = self._features.errors(self._points[None])
+            features = {"c_error": c_err[0], "alpha_m_error": a_err[0]}
         pose = self.world.pose if config.privileged and self.world is not None else None
         return seen.observation(
             self._points.reshape(-1),

@@ -3,6 +3,8 @@
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -16,31 +18,54 @@ from radial_ibvs_gym.envs.parking import ParkingEnv
 from radial_ibvs_gym.envs.parking_vector import ParkingVectorEnv
 
 __all__ = [
+    "GoalConfig",
     "GoalReward",
     "ParkingGoalEnv",
     "ParkingGoalVectorEnv",
-    "check_goal_arguments",
     "depth_observation",
     "goal_observation_space",
 ]
 
 
-def check_goal_arguments(obs_mode: str, power: float, tolerance: float) -> tuple[float, float]:
-    """Check ``ParkingGoal-v1``'s own arguments; return ``(goal_reward_power, tolerance)``.
+@dataclass(frozen=True)
+class GoalConfig:
+    """``ParkingGoal-v1``'s own arguments, validated once (beside the shared ``ParkingConfig``).
+
+    Attributes
+    ----------
+    goal_reward_power
+        ``p`` of the reward term ``-D ** p`` (> 0).
+    goal_image_tolerance
+        ``D`` at or below which the image counts as reached (>= 0, finite).
 
     Raises
     ------
     ValueError
-        For an ``obs_mode`` other than ``"points"``, a power that is not positive, or a
-        negative or infinite tolerance.
+        For a power that is not positive and finite, or a negative or infinite tolerance.
     """
-    if obs_mode != "points":
-        raise ValueError("ParkingGoal-v1 supports obs_mode='points' only")
-    if not (math.isfinite(power) and power > 0):
-        raise ValueError(f"goal_reward_power must be positive, got {power!r}")
-    if not (math.isfinite(tolerance) and tolerance >= 0):
-        raise ValueError(f"goal_image_tolerance must be finite and >= 0, got {tolerance!r}")
-    return float(power), float(tolerance)
+
+    goal_reward_power: float = 0.5
+    goal_image_tolerance: float = 0.02
+
+    def __post_init__(self) -> None:
+        power, tolerance = self.goal_reward_power, self.goal_image_tolerance
+        if not (_is_real(power) and math.isfinite(power) and power > 0):
+            raise ValueError(f"goal_reward_power must be positive, got {power!r}")
+        if not (_is_real(tolerance) and math.isfinite(tolerance) and tolerance >= 0):
+            raise ValueError(f"goal_image_tolerance must be finite and >= 0, got {tolerance!r}")
+        object.__setattr__(self, "goal_reward_power", float(power))
+        object.__setattr__(self, "goal_image_tolerance", float(tolerance))
+
+    @classmethod
+    def of(cls, obs_mode: str, **kwargs: float) -> GoalConfig:
+        """Validate the goal env's arguments for a ``ParkingConfig``'s ``obs_mode``."""
+        if obs_mode != "points":
+            raise ValueError("ParkingGoal-v1 supports obs_mode='points' only")
+        return cls(**kwargs)
+
+
+def _is_real(value: Any) -> bool:
+    return isinstance(value, int | float | np.integer | np.floating) and not isinstance(value, bool)
 
 
 def goal_observation_space(config: ParkingConfig) -> spaces.Dict:
@@ -84,12 +109,15 @@ def depth_observation(
 class GoalReward:
     """``ParkingGoal-v1``'s reward, shared by the scalar and the vector env (for HER).
 
-    Reads the env's ``config.weights``, ``goal_reward_power`` and ``goal_image_tolerance``.
+    Reads the env's ``config.weights`` and ``goal_config``; its :meth:`_reward_terms` is the
+    envs' reward hook.
     """
 
     config: ParkingConfig
-    goal_reward_power: float
-    goal_image_tolerance: float
+    #: the goal env's own arguments
+    goal_config: GoalConfig
+    #: the env's current and goal image points, ``(..., N, 2)`` each (zeros where hidden)
+    _images: Callable[[], tuple[np.ndarray, np.ndarray]]
     #: the reward terms (``info["reward_<term>"]``), in the order they are summed
     reward_term_names: tuple[str, ...] = rules.GOAL_REWARD_TERMS
 
@@ -106,8 +134,8 @@ class GoalReward:
             desired_goal,
             info,
             self.config.weights,
-            self.goal_reward_power,
-            self.goal_image_tolerance,
+            self.goal_config.goal_reward_power,
+            self.goal_config.goal_image_tolerance,
         )
 
     def compute_reward(
@@ -131,6 +159,32 @@ class GoalReward:
         """
         terms = self.reward_terms_of(achieved_goal, desired_goal, info)
         return np.asarray(sum(terms.values()))
+
+    @property
+    def goal_reward_power(self) -> float:
+        """``p`` of the reward term ``-D ** p`` (``goal_config``)."""
+        return self.goal_config.goal_reward_power
+
+    @property
+    def goal_image_tolerance(self) -> float:
+        """``D`` at or below which the image counts as reached (``goal_config``)."""
+        return self.goal_config.goal_image_tolerance
+
+    def _reward_terms(
+        self, previous: Any, now: Any, collision: Any, lost: Any, success: Any
+    ) -> dict[str, Any]:
+        """Return the step's terms, :meth:`reward_terms_of` its images: the envs' reward hook.
+
+        The pose errors ``previous`` and ``now`` and the pose ``success`` are not read: the
+        reward is ``compute_reward(achieved_goal, desired_goal, info)``, as HER needs. The
+        image distance ignores empty slots, so the unpadded images give the padded ones' terms.
+        """
+        points, goal_points = self._images()
+        lead = points.shape[:-2]
+        achieved = points.reshape(*lead, -1).astype(np.float32)
+        desired = goal_points.reshape(*lead, -1).astype(np.float32)
+        terms = self.reward_terms_of(achieved, desired, {"collision": collision, "lost": lost})
+        return {k: np.asarray(v, dtype=np.float64) for k, v in terms.items()}
 
     def image_distance(self, achieved_goal: np.ndarray, desired_goal: np.ndarray) -> np.ndarray:
         """``D`` of the goals ``(..., 2M)`` or, with depths, ``(..., 3M)`` (their points only).
@@ -167,7 +221,7 @@ class ParkingGoalEnv(GoalReward, ParkingEnv):
     times the scenario's ``depth_scale``; 0 for the hidden ones), so a relabelled goal has
     depths as a true one does; the reward reads the image points only. What a policy that
     solves the goal's pose from the bearings needs
-    (``agents.learned.extractors.GoalPoseExtractor``, which reads only the desired goal's
+    (``agents.learned.networks.extractors.GoalPoseExtractor``, which reads only the desired goal's
     depths). Those current depths are ranges a camera alone does not measure: a policy that
     reads all of ``achieved_goal`` (SB3's ``MultiInputPolicy`` does) is given them.
 
@@ -206,29 +260,13 @@ class ParkingGoalEnv(GoalReward, ParkingEnv):
         **kwargs: Any,
     ) -> None:
         kwargs.setdefault("obs_mode", "points")
-        if kwargs["obs_mode"] != "points":
-            raise ValueError("ParkingGoal-v1 supports obs_mode='points' only")
-        super().__init__(*args, **kwargs)
-        self.goal_reward_power, self.goal_image_tolerance = check_goal_arguments(
-            kwargs["obs_mode"], goal_reward_power, goal_image_tolerance
+        self.goal_config = GoalConfig.of(
+            kwargs["obs_mode"],
+            goal_reward_power=goal_reward_power,
+            goal_image_tolerance=goal_image_tolerance,
         )
+        super().__init__(*args, **kwargs)
         self.observation_space = goal_observation_space(self.config)  # type: ignore[assignment]
-
-    def step(
-        self, action: np.ndarray
-    ) -> tuple[dict[str, np.ndarray], float, bool, bool, dict[str, Any]]:
-        """Step as :class:`ParkingEnv`; the reward is :meth:`compute_reward` of the step."""
-        obs, _, terminated, truncated, info = super().step(action)
-        for key in rules.reward_info(dict.fromkeys(rules.REWARD_TERMS)):
-            del info[key]  # Parking-v0's terms: this env's are the goal reward's
-        terms = self.reward_terms_of(*self._goals(obs), info)
-        info |= rules.reward_info({k: np.float64(v) for k, v in terms.items()})
-        reward = float(sum(float(v) for v in terms.values()))  # = compute_reward (tested)
-        return obs, reward, terminated, truncated, info
-
-    @staticmethod
-    def _goals(obs: dict[str, np.ndarray]) -> tuple[np.ndarray, np.ndarray]:
-        return obs["achieved_goal"], obs["desired_goal"]
 
     def _obs(self) -> dict[str, np.ndarray]:
         assert self._setup is not None
@@ -271,8 +309,10 @@ class ParkingGoalVectorEnv(GoalReward, ParkingVectorEnv):
         **kwargs: Any,
     ) -> None:
         kwargs.setdefault("obs_mode", "points")
-        self.goal_reward_power, self.goal_image_tolerance = check_goal_arguments(
-            kwargs["obs_mode"], goal_reward_power, goal_image_tolerance
+        self.goal_config = GoalConfig.of(
+            kwargs["obs_mode"],
+            goal_reward_power=goal_reward_power,
+            goal_image_tolerance=goal_image_tolerance,
         )
         super().__init__(num_envs, **kwargs)
 
@@ -280,36 +320,21 @@ class ParkingGoalVectorEnv(GoalReward, ParkingVectorEnv):
         return goal_observation_space(self.config)
 
     def _observation(self, idx: Any = slice(None)) -> dict[str, NDArray[Any]]:
-        points = self._points[idx]
+        points, batch = self._points[idx], self.batch
         n = len(points)
         obs = {
             "points": points.reshape(n, -1),
             "visible": self._visible[idx].astype(np.float32),
-            "goal_points": self._goal_points[idx].reshape(n, -1),
+            "goal_points": batch.goal_points[idx].reshape(n, -1),
         }
         t = self.config
         if t.goal_depths:
-            landmarks, poses = self._landmarks_c[idx], self.fleet.poses[idx]
+            landmarks, poses = batch.landmarks_c[idx], self.fleet.poses[idx]
             obs["depths"] = depth_observation(t, landmarks, poses, self._visible[idx])
-            obs["goal_depths"] = self._goal_depths[idx]
+            obs["goal_depths"] = batch.goal_depths[idx]
         if t.slots is not None:
-            obs = t.slots.pad(obs, self._slot_orders[idx] if t.slot_order == "random" else None)
+            obs = t.slots.pad(obs, batch.slot_orders[idx] if t.slot_order == "random" else None)
         return seen.goal_observation(
             obs["points"], obs["visible"], obs["goal_points"], obs.get("depths"),
             obs.get("goal_depths"),
         )  # fmt: skip
-
-    def _reward_terms(
-        self,
-        previous: tuple[NDArray[np.float64], NDArray[np.float64]],
-        now: tuple[NDArray[np.float64], NDArray[np.float64]],
-        collision: NDArray[np.bool_],
-        lost: NDArray[np.bool_],
-        success: NDArray[np.bool_],
-    ) -> dict[str, NDArray[np.float64]]:
-        n = self.num_envs  # the image distance ignores empty slots: no padding needed here
-        achieved = self._points.reshape(n, -1).astype(np.float32)
-        desired = self._goal_points.reshape(n, -1).astype(np.float32)
-        events = {"collision": collision, "lost": lost}
-        terms = self.reward_terms_of(achieved, desired, events)
-        return {k: np.asarray(v, dtype=np.float64) for k, v in terms.items()}

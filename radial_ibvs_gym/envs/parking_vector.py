@@ -10,15 +10,15 @@ keyword arguments, validated into the same :class:`~radial_ibvs_gym.envs.config.
 and gives the same numbers as ``gym.make_vec(..., vectorization_mode="sync")`` on the same
 seeds and actions.
 
-One class of about 545 lines: its reset, its step with its three autoreset modes, its observation
-and its info share the ``(N, ...)`` arrays it holds, so they stay together; the info helpers are
-in :mod:`~radial_ibvs_gym.envs.vector_info`, the goal-conditioned variant in
+One class of about 490 lines: its reset, its step with its three autoreset modes, its observation
+and its info share the step state it holds, so they stay together. The episodes' ``(N, ...)``
+arrays are in :class:`~radial_ibvs_gym.envs.episode_batch.EpisodeBatch`, the info helpers in
+:mod:`~radial_ibvs_gym.envs.vector_info`, the goal-conditioned variant in
 :mod:`~radial_ibvs_gym.envs.parking_goal`.
 """
 
 from __future__ import annotations
 
-import math
 from typing import Any
 
 import numpy as np
@@ -28,13 +28,15 @@ from gymnasium.vector import VectorEnv
 from gymnasium.vector.utils import batch_space
 from numpy.typing import NDArray
 
+from radial_ibvs_gym.camera import measurement
 from radial_ibvs_gym.envs import observation as seen
 from radial_ibvs_gym.envs import rules
 from radial_ibvs_gym.envs.autoreset import AutoresetMode
 from radial_ibvs_gym.envs.config import ParkingConfig
+from radial_ibvs_gym.envs.episode_batch import EpisodeBatch
 from radial_ibvs_gym.envs.episodes import EpisodeSetup, EpisodeSource
-from radial_ibvs_gym.envs.rules import IMPERFECTION_KEYS
 from radial_ibvs_gym.envs.vector_info import masked, put, select, spread
+from radial_ibvs_gym.geometry import world_to_camera
 from radial_ibvs_gym.limits import MAX_NUM_ENVS
 from radial_ibvs_gym.physics.fleet import make_fleet
 from radial_ibvs_gym.registration import MAX_EPISODE_STEPS
@@ -155,38 +157,19 @@ class ParkingVectorEnv(VectorEnv):
         self.fleet = make_fleet(config.physics, config.robot, n, obstacles=scene.obstacles, **extra)
         nl = self.scenario.n_landmarks
         self._rngs: list[np.random.Generator | None] = [None] * n
-        self._setups: list[EpisodeSetup | None] = [None] * n
-        self._landmarks_c = np.zeros((n, nl), dtype=np.complex128)
-        self._landmarks_w = np.zeros((n, nl, 3))  # world frame (the imperfect camera's input)
-        self._bounds = np.zeros((2, n, nl))  # current camera: visible distance interval
-        self._goals = np.zeros((n, 3))
-        self._privileged_goals = np.zeros((n, 3))  # the image goal with privileged_goal="image"
-        self._held = np.zeros(n, dtype=np.int64)  # steps in a row within the tolerances
-        self._tasks = np.zeros(n, dtype=np.int64)
-        self._goal_points = np.zeros((n, nl, 2))
-        self._goal_visible = np.zeros((n, nl), dtype=bool)
-        self._goal_depths = np.zeros((n, nl))
+        #: each env's current episode, as (N, ...) arrays
+        self.batch = EpisodeBatch(config, n)
+        # the step state of each env
         self._points = np.zeros((n, nl, 2))
         self._visible = np.zeros((n, nl), dtype=bool)
+        self._held = np.zeros(n, dtype=np.int64)  # steps in a row within the tolerances
         self._prev = (np.zeros(n), np.zeros(n))
         self._elapsed = np.zeros(n, dtype=np.int64)
         self._autoreset = np.zeros(n, dtype=bool)
         self._ended = np.zeros(n, dtype=bool)  # autoreset "disabled": ended, not reset since
-        self._slot_orders = np.zeros((n, nl), dtype=np.intp)  # slot_order="random": per env
         camera = self.scenario.config.camera
         self._drawn = camera.imperfection_ranges is not None  # imperfections drawn per episode
         self._fast = not (camera.imperfections.any or self._drawn)
-        #: the drawn imperfections per env, columns as in logic.imperfections_info
-        self._imperfections = np.zeros((n, len(IMPERFECTION_KEYS)))
-        if config.obs_mode == "features":
-            m = len(config.pairs[0])
-            self._c_goal = np.zeros((n, m))
-            self._weights = np.zeros((n, nl))
-            self._has_weights = np.zeros(n, dtype=bool)
-            self._both = np.zeros((n, nl), dtype=bool)
-            self._weight_caches: list[dict[bytes, NDArray[np.float64] | None]] = [
-                {} for _ in range(n)
-            ]
 
     def _single_observation_space(self) -> spaces.Space[Any]:
         """One robot's observation space (the scalar env's)."""
@@ -253,38 +236,14 @@ class ParkingVectorEnv(VectorEnv):
             rng = self._rngs[i]
             assert rng is not None
             setup = self.episodes.setup_episode(rng, task, options)
-            episode = setup.episode
-            self._landmarks_c[i] = setup.landmarks_c
-            self._landmarks_w[i] = episode.landmarks
-            if self._fast:
-                bounds = setup.radius_bounds["current"]
-                assert bounds is not None
-                self._bounds[0, i], self._bounds[1, i] = bounds
-            self._goals[i] = episode.goal
-            self._privileged_goals[i] = setup.privileged_goal
-            self._tasks[i] = episode.task
-            self._goal_points[i] = setup.goal_points
-            self._goal_visible[i] = setup.goal_visible
-            self._goal_depths[i] = setup.goal_depths
-            self._setups[i] = setup
-            if setup.slot_order is not None:
-                self._slot_orders[i] = setup.slot_order
-            if setup.imperfections is not None:
-                drawn = rules.imperfections_info(setup.imperfections)
-                self._imperfections[i] = [drawn[k] for k in IMPERFECTION_KEYS]
-            rooms.append(episode.room)
-            starts.append(episode.start)
-            obstacles.append(episode.obstacles)
-            if t.obs_mode == "features":
-                self._c_goal[i] = setup.c_goal
-                self._weight_caches[i] = {}
-                self._both[i] = False
-                self._weights[i] = 0.0
-                self._has_weights[i] = False
+            self.batch.put(i, setup)
+            rooms.append(setup.episode.room)
+            starts.append(setup.episode.start)
+            obstacles.append(setup.episode.obstacles)
         self.fleet.reset(indices, np.array(rooms), np.array(starts), obstacles)
         poses = self.fleet.poses
         self._observe(poses, indices)
-        goals = self._goals[indices].T
+        goals = self.batch.goals[indices].T
         errors = rules.pose_errors(poses[indices].T, goals)
         self._prev[0][indices], self._prev[1][indices] = errors
         self._elapsed[indices] = 0
@@ -326,7 +285,7 @@ class ParkingVectorEnv(VectorEnv):
             self._observe(poses, np.flatnonzero(~self._ended))  # the ended ones: camera off
         else:
             self._observe(poses, np.arange(n))
-        now = rules.pose_errors(poses.T, self._goals.T)
+        now = rules.pose_errors(poses.T, self.batch.goals.T)
         n_visible = self._visible.sum(axis=1)
         success, lost, terminated, self._held = rules.episode_end(
             *now,
@@ -386,102 +345,81 @@ class ParkingVectorEnv(VectorEnv):
         lost: NDArray[np.bool_],
         success: NDArray[np.bool_],
     ) -> dict[str, NDArray[np.float64]]:
+        """Return the step's named reward terms ``(N,)`` each: the reward hook of both envs.
+
+        :meth:`ParkingEnv._reward_terms <radial_ibvs_gym.envs.parking.ParkingEnv._reward_terms>`
+        for ``N`` robots; ``ParkingGoal-v1`` overrides both with its goal reward.
+        """
         return rules.reward_terms(previous, now, collision, lost, success, self.config.weights)
+
+    def _images(self) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """Return the current and the goal image points, ``(N, L, 2)`` each (zeros where hidden)."""
+        return self._points, self.batch.goal_points
 
     # --- observation and info ------------------------------------------------------------------
     def _observe(self, poses: NDArray[np.float64], indices: NDArray[np.intp]) -> None:
         """Image points and visibility of the envs ``indices`` at their ``poses`` ``(N, 3)``."""
+        batch = self.batch
         if self._fast:
             if len(indices) == self.num_envs:
-                pts, vis = seen.radial_image(
-                    self._landmarks_c, self._bounds[0], self._bounds[1], poses
-                )
+                lo, hi = batch.bounds
+                pts, vis = seen.radial_image(batch.landmarks_c, lo, hi, poses)
             else:
                 pts, vis = seen.radial_image(
-                    self._landmarks_c[indices],
-                    self._bounds[0, indices],
-                    self._bounds[1, indices],
+                    batch.landmarks_c[indices],
+                    batch.bounds[0, indices],
+                    batch.bounds[1, indices],
                     poses[indices],
                 )
             self._points[indices], self._visible[indices] = pts, vis
-            if self.config.missed_detections is not None:
-                for i in indices.tolist():
-                    missed = self._setups[i].missed
+        elif len(indices):  # a camera with imperfections: exact projection and noise, batched
+            rows = indices.tolist()
+            cameras = [self._setup(i).cameras["current"] for i in rows]
+            rngs = [self._rngs[i] for i in rows]
+            height = self.config.scenario.config.camera_height
+            p_cam = world_to_camera(
+                batch.landmarks_w[indices], poses[indices], height, validate=False
+            )
+            points, visible = measurement.camera_images(cameras, p_cam, rngs)
+            self._points[indices], self._visible[indices] = points, visible
+        if self.config.missed_detections is not None:
+            for i in indices.tolist():
+                missed = self._setup(i).missed
+                if missed is not None:
                     self._points[i], self._visible[i] = missed.apply(
                         self._points[i], self._visible[i]
                     )
-        elif len(indices):  # a camera with imperfections: exact projection and noise, batched
-            rows = indices.tolist()
-            setups = [self._setups[i] for i in rows]
-            rngs = [self._rngs[i] for i in rows]
-            assert all(s is not None for s in setups) and all(r is not None for r in rngs)
-            cameras = [s.cameras["current"] for s in setups]
-            p_cam = self._camera_frame(poses[indices], indices)
-            points, visible = seen.camera_images(cameras, p_cam, rngs)
-            self._points[indices], self._visible[indices] = points, visible
-            for i, setup in zip(rows, setups, strict=True):
-                if setup is not None and setup.missed is not None:
-                    self._points[i], self._visible[i] = setup.missed.apply(
-                        self._points[i], self._visible[i]
-                    )
-        if self.config.obs_mode == "features":
-            both = self._visible[indices] & self._goal_visible[indices]
-            changed = (both != self._both[indices]).any(axis=1)
-            for k in np.flatnonzero(changed).tolist():
-                i = int(indices[k])
-                key = both[k].tobytes()
-                cache = self._weight_caches[i]
-                if key not in cache:
-                    cache[key] = seen.goal_weights(self._goal_points[i], both[k])
-                a = cache[key]
-                self._has_weights[i] = a is not None
-                self._weights[i] = 0.0 if a is None else a
-            self._both[indices] = both
+        if batch.features is not None:
+            batch.features.update(indices, self._visible[indices] & batch.goal_visible[indices])
 
-    def _camera_frame(self, poses: NDArray[np.float64], indices: NDArray[np.intp]) -> Any:
-        """Landmarks ``(k, N, 3)`` of the envs ``indices`` in their cameras' frames, metres.
-
-        :func:`~radial_ibvs_gym.geometry.world_to_camera` batched, with each yaw's cosine and
-        sine taken as the scalar env takes them (``math``), so the numbers are its own.
-        """
-        landmarks = self._landmarks_w[indices]
-        yaw = poses[:, 2].tolist()
-        c = np.array([math.cos(a) for a in yaw])[:, None]
-        s = np.array([math.sin(a) for a in yaw])[:, None]
-        dx = landmarks[..., 0] - poses[:, 0, None]
-        dy = landmarks[..., 1] - poses[:, 1, None]
-        z = landmarks[..., 2] - self.config.scenario.config.camera_height
-        return np.stack([c * dx + s * dy, -s * dx + c * dy, z], axis=-1)
+    def _setup(self, i: int) -> EpisodeSetup:
+        """Return env ``i``'s episode (after its first reset)."""
+        setup = self.batch.setups[i]
+        assert setup is not None, "call reset() before step()"
+        return setup
 
     def _observation(self, idx: Any = slice(None)) -> dict[str, NDArray[Any]]:
         """Return the observations of the envs ``idx`` (default: all)."""
-        t = self.config
+        t, batch = self.config, self.batch
         points = self._points[idx]
         extra: dict[str, NDArray[Any]] = {}
-        if t.obs_mode == "features":
-            c_err, a_err = seen.feature_errors(
-                points,
-                self._both[idx],
-                self._c_goal[idx],
-                t.pairs,
-                self._weights[idx],
-                self._has_weights[idx],
-            )
+        if batch.features is not None:
+            c_err, a_err = batch.features.errors(points, idx)
             extra = {"c_error": c_err, "alpha_m_error": a_err}
         obs = seen.observation(
             points.reshape(len(points), -1),
-            self._goal_points[idx].reshape(len(points), -1),
+            batch.goal_points[idx].reshape(len(points), -1),
             self._visible[idx],
             features=extra,
-            goal_depths=self._goal_depths[idx] if t.goal_depths else None,
+            goal_depths=batch.goal_depths[idx] if t.goal_depths else None,
             robot_pose=self.fleet.poses[idx] if t.privileged else None,
-            goal_pose=self._privileged_goals[idx] if t.privileged else None,
-            landmarks=self._landmarks_c[idx] if t.privileged else None,
+            goal_pose=batch.privileged_goals[idx] if t.privileged else None,
+            landmarks=batch.landmarks_c[idx] if t.privileged else None,
             slots=t.slots,
-            slot_order=self._slot_orders[idx] if t.slot_order == "random" else None,
+            slot_order=batch.slot_orders[idx] if t.slot_order == "random" else None,
         )
         if t.privileged_map:
-            setups = [self._setups[i] for i in np.arange(self.num_envs)[idx].tolist()]
+            setups = [self.batch.setups[i] for i in np.arange(self.num_envs)[idx].tolist()]
             maps = [s.map for s in setups if s is not None and s.map is not None]
             for key in ("room", "obstacles", "landmarks", "landmark_range"):
                 obs[key] = np.stack([m[key] for m in maps])
@@ -504,38 +442,35 @@ class ParkingVectorEnv(VectorEnv):
     ) -> dict[str, Any]:
         values = rules.info_values(
             poses,
-            self._goals,
+            self.batch.goals,
             errors,
             success,
             collision,
             np.zeros(self.num_envs, bool) if lost is None else lost,
             n_visible,
-            self._tasks,
-            self._goal_depths,
+            self.batch.tasks,
+            self.batch.goal_depths,
             self._imperfections_info(slice(None)),
         )
         return masked(values, np.ones(self.num_envs, dtype=bool))
 
     def _imperfections_info(self, rows: Any) -> dict[str, Any] | None:
         """Return the drawn imperfections of the envs ``rows`` (``{key: (k,) array}``) or None."""
-        if not self._drawn:
-            return None
-        table = self._imperfections[rows]
-        return {k: table[:, j] for j, k in enumerate(IMPERFECTION_KEYS)}
+        return self.batch.imperfections_info(rows) if self._drawn else None
 
     def _reset_values(self, indices: NDArray[np.intp]) -> dict[str, Any]:
         """Return the reset ``info`` values of the envs ``indices`` (rows of each key)."""
         no = np.zeros(len(indices), dtype=bool)
         values = rules.info_values(
             self.fleet.poses[indices],
-            self._goals[indices],
+            self.batch.goals[indices],
             (self._prev[0][indices], self._prev[1][indices]),
             no,
             no,
             no,
             self._visible[indices].sum(axis=1),
-            self._tasks[indices],
-            self._goal_depths[indices],
+            self.batch.tasks[indices],
+            self.batch.goal_depths[indices],
             self._imperfections_info(indices),
         )
         zero = np.zeros(len(indices))

@@ -21,7 +21,9 @@ def world_to_camera(
 
     The camera sits on the robot's rotation axis, ``camera_height`` metres above the floor,
     with its z axis (the mirror axis) pointing up, x along the robot's heading and y to its
-    left. This is the frame of eq. (9) and of every interaction matrix.
+    left. This is the frame of eq. (9) and of every interaction matrix. One pose or a batch,
+    each pose's points are the same bits: the yaw's cosine and sine come from ``math`` (the C
+    library) in both cases, not from numpy's SIMD loops, whose last bit may differ by CPU.
 
     Parameters
     ----------
@@ -52,10 +54,13 @@ def world_to_camera(
         x, y, yaw = q.tolist()
         c, s = math.cos(yaw), math.sin(yaw)
         dx, dy = p[..., 0] - x, p[..., 1] - y
-    else:
+    else:  # the same libm trigonometry as one pose: a batch gives each pose's bits
         dx = p[..., 0] - q[..., None, 0]
         dy = p[..., 1] - q[..., None, 1]
-        c, s = np.cos(q[..., None, 2]), np.sin(q[..., None, 2])
+        yaw = q[..., 2:3]
+        angles = yaw.ravel().tolist()
+        c = np.array([math.cos(a) for a in angles]).reshape(yaw.shape)
+        s = np.array([math.sin(a) for a in angles]).reshape(yaw.shape)
     z = np.broadcast_to(p[..., 2] - camera_height, np.shape(dx))  # poses may add batch axes
     return np.stack([c * dx + s * dy, -s * dx + c * dy, z], axis=-1)
 

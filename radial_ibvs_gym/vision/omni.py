@@ -20,7 +20,7 @@ checks it against that reference).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -28,70 +28,12 @@ from numpy.typing import ArrayLike, NDArray
 from radial_ibvs_gym._validation import as_float_array, check_finite, check_last_dim
 from radial_ibvs_gym.camera import CatadioptricCamera
 from radial_ibvs_gym.vision.room_rays import SHADE, VerticalHits, shade_rays
+from radial_ibvs_gym.vision.room_scene import RoomScene
 
 __all__ = ["ImageQuality", "OmniRenderer", "RoomScene"]
 
 #: grey levels (0..1) outside the mirror's image and in its blind centre
 _OUTSIDE, _BLIND = 0.04, 0.3
-
-
-@dataclass(frozen=True)
-class RoomScene:
-    """A box room with circular beacons painted on its walls.
-
-    Attributes
-    ----------
-    size
-        ``(width, depth)`` of the floor, metres (walls at ``x = 0, width`` and ``y = 0, depth``).
-    height
-        Ceiling height, metres.
-    beacons
-        ``(K, 3)`` beacon centres on the walls, world frame, metres.
-    beacon_radius
-        Radius of the beacon discs, metres (under half the room's smaller side).
-    walls
-        Set on creation: the wall of each beacon (:meth:`wall_of`).
-    """
-
-    size: tuple[float, float]
-    height: float
-    beacons: NDArray[np.float64]
-    beacon_radius: float = 0.08
-    walls: tuple[int, ...] = field(init=False, repr=False, compare=False, default=())
-
-    def __post_init__(self) -> None:
-        w, d = self.size
-        if not (w > 0 and d > 0 and math.isfinite(w) and math.isfinite(d)):
-            raise ValueError(f"size must be a positive (width, depth), got {self.size!r}")
-        if not (math.isfinite(self.height) and self.height > 0):
-            raise ValueError(f"height must be positive, got {self.height!r}")
-        if not (math.isfinite(self.beacon_radius) and self.beacon_radius > 0):
-            raise ValueError(f"beacon_radius must be positive, got {self.beacon_radius!r}")
-        beacons = as_float_array(self.beacons, "beacons").reshape(-1, 3)
-        check_finite(beacons, "beacons")
-        object.__setattr__(self, "beacons", beacons)
-        if not 2.0 * self.beacon_radius < min(w, d):
-            raise ValueError(
-                f"beacon_radius {self.beacon_radius!r} m does not fit the {w} x {d} m room "
-                "(it must be under half its smaller side)"
-            )
-        walls = []
-        for b in beacons:
-            wall = self.wall_of(b)
-            if wall is None:
-                raise ValueError(f"beacon {b.tolist()} is not on a wall of the {w} x {d} m room")
-            walls.append(wall)
-        object.__setattr__(self, "walls", tuple(walls))
-
-    def wall_of(self, point: NDArray[np.float64], tol: float = 1e-6) -> int | None:
-        """Wall index of a point (0: x = 0, 1: x = width, 2: y = 0, 3: y = depth), or None."""
-        w, d = self.size
-        for index, (coordinate, value) in enumerate(
-            ((point[0], 0.0), (point[0], w), (point[1], 0.0), (point[1], d))
-        ):
-            if abs(coordinate - value) <= tol:
-                return index
-        return None
 
 
 @dataclass(frozen=True)
@@ -169,7 +111,16 @@ class OmniRenderer:
     def _vertical(self, height: float) -> VerticalHits:
         """Return the rays' floor or ceiling hits for a room height, sorted by reach (cached)."""
         if self._vertical_cache is None or self._vertical_cache[0] != height:
-            self._vertical_cache = (height, VerticalHits.of(self, height))
+            hits = VerticalHits.of(
+                self._origins,
+                self._directions,
+                self._index,
+                self._flat_shade,
+                self._background,
+                self.camera_height,
+                height,
+            )
+            self._vertical_cache = (height, hits)
         return self._vertical_cache[1]
 
     def sensor_to_image(self, uv: ArrayLike) -> NDArray[np.float64]:

@@ -18,7 +18,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 if TYPE_CHECKING:
-    from radial_ibvs_gym.vision.omni import OmniRenderer, RoomScene
+    from radial_ibvs_gym.vision.room_scene import RoomScene
 
 __all__ = ["BEACON", "SHADE", "SHADES", "VerticalHits", "near_beacons", "shade_rays"]
 
@@ -75,10 +75,34 @@ class VerticalHits:
     origin_reach: float
 
     @classmethod
-    def of(cls, renderer: OmniRenderer, height: float) -> VerticalHits:
-        """Compute the hits of ``renderer``'s rays in a room ``height`` metres high."""
-        o, d = renderer._origins, renderer._directions
-        oz = renderer.camera_height + o[:, 2]
+    def of(
+        cls,
+        origins: NDArray[np.float64],
+        directions: NDArray[np.float64],
+        index: NDArray[np.intp],
+        flat_shade: NDArray[np.float64],
+        background: NDArray[np.float64],
+        camera_height: float,
+        height: float,
+    ) -> VerticalHits:
+        """Compute the hits of a renderer's rays in a room ``height`` metres high.
+
+        Parameters
+        ----------
+        origins, directions
+            ``(R, 3)`` the rays' origins (relative to the camera) and directions in the camera
+            frame, metres.
+        index
+            ``(R,)`` flat image index of each ray.
+        flat_shade
+            ``(R,)`` grey level of each ray's floor or ceiling.
+        background
+            ``(size, size)`` the image outside the rays.
+        camera_height, height
+            The camera's height above the floor and the room's, metres.
+        """
+        o, d = origins, directions
+        oz = camera_height + o[:, 2]
         dz = d[:, 2]
         with np.errstate(divide="ignore", invalid="ignore"):
             tz = np.where(dz > 0, height - oz, -oz) / dz
@@ -88,13 +112,12 @@ class VerticalHits:
             reach = np.hypot(o[:, 0] + tz * d[:, 0], o[:, 1] + tz * d[:, 1])
         reach[~(finite & np.isfinite(reach))] = np.inf
         order = np.argsort(reach, kind="stable")
-        flat = renderer._flat_shade
-        image = renderer._background.copy().reshape(-1)
-        image[renderer._index] = flat / (1.0 + 0.03 * tz)
+        image = background.copy().reshape(-1)
+        image[index] = flat_shade / (1.0 + 0.03 * tz)
         azimuth = np.arctan2(d[order, 1], d[order, 0])
         by_azimuth = np.argsort(azimuth, kind="stable")
         return cls(
-            index=renderer._index[order],
+            index=index[order],
             ox=o[order, 0],
             oy=o[order, 1],
             dx=d[order, 0],

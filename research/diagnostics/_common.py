@@ -11,7 +11,7 @@ from typing import Any
 import numpy as np
 
 from agents.experiments.suites import SUITES
-from agents.learned.pose_layer import solve_goal_pose
+from agents.learned.networks.pose_layer import solve_goal_pose
 
 __all__ = ["imperfect_cameras", "solve_one"]
 
@@ -19,7 +19,8 @@ __all__ = ["imperfect_cameras", "solve_one"]
 def solve_one(
     points: Any, visible: Any, goal_points: Any, goal_visible: Any, depths: Any
 ) -> tuple[np.ndarray, bool]:
-    """:func:`~agents.learned.pose_layer.solve_goal_pose` for one image pair, numpy in and out.
+    """:func:`~agents.learned.networks.pose_layer.solve_goal_pose` for one image pair, numpy in and
+    out.
 
     Parameters
     ----------

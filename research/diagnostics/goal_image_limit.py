@@ -11,7 +11,7 @@ through the episode's camera. With pixel noise that image is one noisy draw, and
 it shows is not quite the goal: the *image goal* is the pose whose noise-free image through
 the same camera matches the goal image best. Found here by a fixed point: from the true
 goal, solve the goal image's pose relative to the current noise-free image
-(:func:`agents.learned.pose_layer.solve_one`, the student's first layer), move there, and
+(:func:`agents.learned.networks.pose_layer.solve_one`, the student's first layer), move there, and
 repeat until the step is under a micrometre. A calibration error alone moves no goal (the
 goal image goes through the same camera, so the error cancels there); noise does.
 
@@ -42,7 +42,7 @@ from _common import imperfect_cameras, solve_one  # research/diagnostics/_common
 
 from agents.analytic import make_analytic
 from agents.experiments.suites import HELD_OUT_SEED
-from agents.learned.distill_config import PRIVILEGED, load_dagger_config
+from agents.learned.dagger.distill_config import PRIVILEGED, load_dagger_config
 from agents.rollouts import run_episode
 from radial_ibvs_gym.geometry import relative_pose
 

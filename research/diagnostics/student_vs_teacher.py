@@ -29,8 +29,8 @@ import numpy as np
 from agents import load
 from agents.analytic import make_analytic
 from agents.analytic.docking import goal_frame, in_docking_cone
-from agents.learned.distill_config import PRIVILEGED
-from agents.learned.sb3_vec_env import make_vec_env
+from agents.learned.dagger.distill_config import PRIVILEGED
+from agents.learned.training.sb3_vec_env import make_vec_env
 from agents.rollouts import run_episode
 
 BANDS = (0.0, 0.05, 0.15, 0.3, 0.6, 1.2, 2.5, np.inf)

@@ -28,8 +28,8 @@ import gymnasium as gym
 import numpy as np
 
 from agents.analytic import make_analytic
-from agents.learned.distill_config import PRIVILEGED, load_dagger_config
-from agents.learned.sb3_vec_env import make_vec_env
+from agents.learned.dagger.distill_config import PRIVILEGED, load_dagger_config
+from agents.learned.training.sb3_vec_env import make_vec_env
 from agents.rollouts import run_episode
 
 BURST = 10  # steps of a random command

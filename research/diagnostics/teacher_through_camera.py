@@ -7,7 +7,8 @@ Usage::
         [--variants ideal "noise 1 px" ...] [--teacher-kwargs '{"line_lateral_gain": 225}']
 
 A student with the ``landmark_pose`` extractor sees the goal's pose solved from the landmarks'
-bearings (:func:`agents.learned.pose_layer.solve_goal_pose`), and it learns its teacher's law
+bearings (:func:`agents.learned.networks.pose_layer.solve_goal_pose`), and it learns its teacher's
+law
 on the true pose. This runs that teacher (the config's ``teacher`` and ``teacher_kwargs``,
 with ``--teacher-kwargs`` on top) on the solved pose instead of the true one: the robot's
 pose it is handed is the goal's pose composed with the solved relative pose. The map and the
@@ -35,7 +36,7 @@ from _common import imperfect_cameras, solve_one  # research/diagnostics/_common
 
 from agents.analytic import make_analytic
 from agents.experiments.suites import HELD_OUT_SEED
-from agents.learned.distill_config import PRIVILEGED, load_dagger_config
+from agents.learned.dagger.distill_config import PRIVILEGED, load_dagger_config
 from agents.rollouts import run_episode
 
 

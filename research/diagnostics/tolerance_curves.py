@@ -16,7 +16,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from agents.learned.tolerance_eval import read_tolerance_curve
+from agents.learned.training.tolerance_eval import read_tolerance_curve
 from agents.plotting import pyplot, save_figure
 from radial_ibvs_gym.envs.rules import SUCCESS_TOLERANCES
 

@@ -1,6 +1,6 @@
 """Random scenes of landmark bearings, seen from the goal and from a robot (the pose tests).
 
-Shared by the tests of the pose layer (``agents.learned.pose_layer``) and of position-based
+Shared by the tests of the pose layer (``agents.learned.networks.pose_layer``) and of position-based
 servoing (``agents.analytic.pbvs``), which solve the same scenes. ``conftest.py`` puts this
 folder on the path, last (so nothing shadows an installed module).
 """

@@ -20,7 +20,7 @@ from radial_ibvs_gym.camera import (
     paper_camera,
     shares_reflection,
 )
-from radial_ibvs_gym.envs import observation as logic
+from radial_ibvs_gym.camera import measurement as logic
 
 K = Intrinsics(fx=1100.0, fy=1000.0, mu_x=640.5, mu_y=511.0, width=1280, height=1024)
 

@@ -536,8 +536,8 @@ def test_a_goal_image_averaged_over_frames_is_closer_to_the_true_one() -> None:
 
 def test_the_goal_frames_projected_together_are_the_frames_taken_one_by_one() -> None:
     from radial_ibvs_gym.camera import CatadioptricCamera, Imperfections
+    from radial_ibvs_gym.camera.measurement import camera_image, camera_images
     from radial_ibvs_gym.camera.presets import MIRROR_A, paper_intrinsics
-    from radial_ibvs_gym.envs.observation import camera_image, camera_images
 
     noisy = Imperfections(pixel_noise_std=1.0, principal_point_offset=(2.0, -1.0))
     camera = CatadioptricCamera(MIRROR_A, paper_intrinsics(), camera_z=-0.026, imperfections=noisy)

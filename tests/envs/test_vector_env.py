@@ -162,7 +162,7 @@ def test_random_rooms_differ_per_env_and_reset_mask_resets_only_the_masked_envs(
     assert info["_robot_pose"].tolist() == mask.tolist()
     assert not np.array_equal(base.fleet.rooms[1], rooms[1])
     np.testing.assert_array_equal(base.fleet.rooms[~mask], rooms[~mask])
-    np.testing.assert_array_equal(base._goals[~mask], goals[~mask])
+    np.testing.assert_array_equal(base.batch.goals[~mask], goals[~mask])
 
 
 @pytest.mark.parametrize("physics", ["kinematic", "pymunk"])

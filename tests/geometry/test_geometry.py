@@ -212,6 +212,20 @@ def test_world_to_camera_broadcasts_a_trajectory_of_poses_over_one_point_set() -
         np.testing.assert_allclose(out[k], world_to_camera(points, pose, 1.0), atol=1e-15)
 
 
+@SETTINGS
+@given(
+    poses=hnp.arrays(np.float64, (4, 3), elements=st.floats(-50.0, 50.0)),
+    points=hnp.arrays(np.float64, (4, 5, 3), elements=st.floats(-20.0, 20.0)),
+)
+def test_world_to_camera_gives_each_pose_of_a_batch_its_own_bits(
+    poses: NDArray[np.float64], points: NDArray[np.float64]
+) -> None:
+    # the native vector env projects a batch; the scalar env one pose: the same bits
+    out = world_to_camera(points, poses, 1.7)
+    for k in range(len(poses)):
+        np.testing.assert_array_equal(out[k], world_to_camera(points[k], poses[k], 1.7))
+
+
 def test_relative_pose_agrees_with_world_to_camera_and_wraps_the_yaw() -> None:
     from radial_ibvs_gym.geometry import relative_pose, world_to_camera
 

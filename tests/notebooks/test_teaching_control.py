@@ -14,7 +14,7 @@ from _helpers import teaching_control as tc
 
 import radial_ibvs_gym  # noqa: F401
 from agents import IBVSPolicy, make_policy
-from agents.learned.zoo_config import load_train_config
+from agents.learned.training.zoo_config import load_train_config
 from radial_ibvs_gym import paper
 
 CONFIG = Path(__file__).resolve().parents[2] / "configs" / "agents" / "ppo_parking.yaml"

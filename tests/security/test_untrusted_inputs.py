@@ -30,7 +30,7 @@ from hypothesis import strategies as st
 from agents import load, make_policy
 from agents.cli import main
 from agents.learned import MODELS_DIR
-from agents.learned.model_files import DESCRIPTION, WEIGHTS, load_policy, read_normalization
+from agents.learned.files.model_files import DESCRIPTION, WEIGHTS, load_policy, read_normalization
 from agents.untrusted import MAX_ARCHIVE_MEMBER_BYTES, UntrustedFileError, check_archive
 from radial_ibvs_gym.registration import UnknownEnvIdError, check_env_id
 
@@ -115,7 +115,7 @@ def test_only_the_package_ids_pass(env_id: object) -> None:
 
 
 def test_a_training_config_section_name_never_imports_a_module(tmp_path: Path) -> None:
-    from agents.learned.zoo_config import load_train_config
+    from agents.learned.training.zoo_config import load_train_config
 
     text = (ROOT / "configs" / "agents" / "ppo_parking.yaml").read_text()
     config = tmp_path / "evil.yaml"
@@ -254,7 +254,7 @@ def test_a_huge_action_space_is_refused_before_it_is_built(tmp_path: Path) -> No
     described = json.loads((model / DESCRIPTION).read_text())
     described["action_space"] = {"type": "Discrete", "n": 10**11, "start": 0}
     (model / DESCRIPTION).write_text(json.dumps(described))
-    code = f"from agents.learned.model_files import load_policy; load_policy({str(model)!r})"
+    code = f"from agents.learned.files.model_files import load_policy; load_policy({str(model)!r})"
     _refused(_under_memory_cap(code, tmp_path), "MAX_SPACE_ELEMENTS")
 
 
@@ -276,7 +276,7 @@ def test_a_normalization_member_that_inflates_past_the_cap_is_refused(tmp_path: 
 
 
 def test_a_model_zip_member_that_inflates_past_the_cap_is_refused(tmp_path: Path) -> None:
-    from agents.learned.training import _resume
+    from agents.learned.training.train import _resume
 
     source = tmp_path / "source"
     source.mkdir()
@@ -392,7 +392,7 @@ def test_training_hyper_parameters_are_checked_before_sb3(
 ) -> None:
     import yaml
 
-    from agents.learned.zoo_config import load_train_config
+    from agents.learned.training.zoo_config import load_train_config
 
     source = ROOT / "configs" / "agents" / "ppo_parking.yaml"
     data = yaml.safe_load(source.read_text())
@@ -406,7 +406,7 @@ def test_training_hyper_parameters_are_checked_before_sb3(
 def test_whole_float_hyper_parameters_become_integers(tmp_path: Path) -> None:
     import yaml
 
-    from agents.learned.zoo_config import load_train_config
+    from agents.learned.training.zoo_config import load_train_config
 
     source = ROOT / "configs" / "agents" / "ppo_parking.yaml"
     data = yaml.safe_load(source.read_text())

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from agents.analytic.ibvs_policy import IBVSPolicy
-from agents.learned.sb3_vec_env import make_vec_env
+from agents.learned.training.sb3_vec_env import make_vec_env
 
 
 def _observations(n_envs: int = 32, steps: int = 60, seed: int = 3) -> list[dict[str, np.ndarray]]:

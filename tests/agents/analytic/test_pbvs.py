@@ -14,7 +14,7 @@ import radial_ibvs_gym  # noqa: F401  (registers the envs)
 from agents import make_policy
 from agents.analytic.pbvs import PBVSPolicy, solve_goal_pose
 from agents.analytic.pose_oracle import PoseOracle
-from agents.learned import pose_layer
+from agents.learned.networks import pose_layer
 from agents.rollouts import make_env, run_episode
 from radial_ibvs_gym.geometry import pose_in_frame
 

@@ -161,7 +161,7 @@ def _aligner(approach: float = 0.0) -> MapPlanner:
 def _park_rooms(planner: MapPlanner, n: int, watch) -> np.ndarray:
     """Run one episode in each of ``n`` held-out random rooms (kinematic); call
     ``watch(obs, action, done)`` before each step; return whether each episode parked."""
-    from agents.learned.sb3_vec_env import make_vec_env
+    from agents.learned.training.sb3_vec_env import make_vec_env
 
     venv = make_vec_env(
         "RadialIBVS/Parking-v0", n, seed=10_000, monitor=False, scenario="random",

@@ -10,7 +10,7 @@ import pytest
 from agents.analytic import make_analytic
 from agents.cli import main
 from agents.experiments.collect import DEFAULT_LAYOUT, collect
-from agents.learned.datasets import load_collected
+from agents.learned.dagger.datasets import load_collected
 from agents.rollouts import make_env
 
 pytest.importorskip("minari")
@@ -58,7 +58,7 @@ def test_cli_collect_and_refuse_to_overwrite(tmp_path, capsys):
 
 
 def test_dagger_starts_from_a_dataset(dataset, tmp_path):
-    from agents.learned.distill import dagger, dataset_labels, load_dagger_config
+    from agents.learned.dagger.distill import dagger, dataset_labels, load_dagger_config
 
     steps = load_collected(dataset).total_steps
     obs, labels = dataset_labels(dataset, ["points", "visible", "c_error"], None)

@@ -12,8 +12,8 @@ from pathlib import Path
 
 import pytest
 
-from agents.learned.distill_config import load_dagger_config
-from agents.learned.zoo_config import load_train_config
+from agents.learned.dagger.distill_config import load_dagger_config
+from agents.learned.training.zoo_config import load_train_config
 from radial_ibvs_gym.config import ConfigError, read_yaml, read_yaml_with_base
 
 ROOT = Path(__file__).resolve().parents[3]

@@ -1,70 +1,37 @@
 """Model files without pickles: safetensors + JSON, and pickled payloads that never run.
 
-A payload here only writes a marker file. Each test first shows the payload is live (loading
-the file the unsafe way writes the marker), so that "the marker never appears" means
-something.
+A payload here (``pickle_payloads``) only writes a marker file. Each test first shows the
+payload is live (loading the file the unsafe way writes the marker), so that "the marker never
+appears" means something.
 """
 
 from __future__ import annotations
 
-import base64
 import json
-import pickle
 import shutil
-import zipfile
 from pathlib import Path
 
 import gymnasium as gym
 import numpy as np
 import pytest
+from pickle_payloads import payload, poison_zip
 
 import radial_ibvs_gym  # noqa: F401
 from agents import load
 from agents.cli import main
 from agents.learned import MODELS_DIR
-from agents.learned.model_files import (
+from agents.learned.files.former_paths import FORMER_MODULES, current_name
+from agents.learned.files.model_files import (
     DESCRIPTION,
     WEIGHTS,
     load_policy,
     space_from_json,
     space_to_json,
 )
-from agents.learned.saving import save_model_dir
+from agents.learned.files.saving import save_model_dir
 from agents.rollouts import make_env
 
 CONFIG = Path(__file__).resolve().parents[3] / "configs" / "agents" / "ppo_parking.yaml"
-
-
-class _Payload:
-    """Unpickling this writes ``marker`` (and nothing else)."""
-
-    def __init__(self, marker: Path) -> None:
-        self.marker = marker
-
-    def __reduce__(self) -> tuple[object, tuple[str]]:
-        return (exec, (f"open({str(self.marker)!r}, 'w').write('ran')",))
-
-
-def _payload(marker: Path) -> bytes:
-    return pickle.dumps(_Payload(marker))
-
-
-def _poison_zip(zip_path: Path, marker: Path, *, member: str = "data") -> None:
-    """Add a cloudpickled entry to SB3's ``data`` JSON (or replace ``member`` by a pickle)."""
-    with zipfile.ZipFile(zip_path) as archive:
-        members = {name: archive.read(name) for name in archive.namelist()}
-    if member == "data":
-        data = json.loads(members["data"])
-        data["extra"] = {
-            ":type:": "<class 'object'>",
-            ":serialized:": base64.b64encode(_payload(marker)).decode(),
-        }
-        members["data"] = json.dumps(data).encode()
-    else:
-        members[member] = _payload(marker)
-    with zipfile.ZipFile(zip_path, "w") as archive:
-        for name, content in members.items():
-            archive.writestr(name, content)
 
 
 @pytest.fixture
@@ -73,8 +40,8 @@ def poisoned(tmp_path: Path) -> tuple[Path, Path]:
     model = tmp_path / "ppo-poisoned"
     shutil.copytree(MODELS_DIR / "ppo-residual", model)
     marker = tmp_path / "marker"
-    _poison_zip(model / "model.zip", marker)
-    (model / "vecnormalize.pkl").write_bytes(_payload(marker))
+    poison_zip(model / "model.zip", marker)
+    (model / "vecnormalize.pkl").write_bytes(payload(marker))
     return model, marker
 
 
@@ -134,34 +101,13 @@ def trained(tmp_path_factory: pytest.TempPathFactory) -> Path:
     return out
 
 
-def _resume_argv(source: Path, out: Path) -> list[str]:
-    argv = ["train", "--config", str(CONFIG), "--total-timesteps", "256", "--resume", str(source)]
-    return [*argv, "--out", str(out), "--no-progress", "--env-kwarg", "task=1"]
-
-
-@pytest.mark.slow
-def test_resume_never_unpickles(trained: Path, tmp_path: Path) -> None:
-    source = tmp_path / "source"
-    shutil.copytree(trained, source)
-    marker = tmp_path / "marker"
-    _poison_zip(source / "model.zip", marker)
-    (source / "vecnormalize.pkl").write_bytes(_payload(marker))
-    assert main(_resume_argv(source, tmp_path / "more")) == 0
-    steps = json.loads((tmp_path / "more" / "metadata.json").read_text())["total_timesteps"]
-    assert steps > json.loads((trained / "metadata.json").read_text())["total_timesteps"]
-    # a weights file that is a pickle: torch's weights-only reader refuses it
-    _poison_zip(source / "model.zip", marker, member="policy.pth")
-    assert main(_resume_argv(source, tmp_path / "again")) == 2
-    assert not marker.exists()
-
-
 def test_resume_needs_the_plain_observation_statistics(trained: Path, tmp_path: Path) -> None:
     source = tmp_path / "source"
     shutil.copytree(trained, source)
     (source / "normalization.npz").unlink()
     with pytest.raises(ValueError, match=r"normalization\.npz are missing"):
-        from agents.learned.training import train
-        from agents.learned.zoo_config import load_train_config
+        from agents.learned.training.train import train
+        from agents.learned.training.zoo_config import load_train_config
 
         train(load_train_config(CONFIG), tmp_path / "x", resume=source, total_timesteps=64)
 
@@ -206,7 +152,7 @@ def test_save_model_dir_reads_the_env_and_its_normalisation_from_the_model(
     from stable_baselines3.common.vec_env import VecNormalize
 
     from agents import make_vec_env, save_model_dir
-    from agents.learned.saving import env_spec_of
+    from agents.learned.files.saving import env_spec_of
 
     kwargs = {"physics": "kinematic", "scenario": "paper-sim", "task": 2}
     venv = VecNormalize(make_vec_env("RadialIBVS/Parking-v0", 2, seed=0, **kwargs))
@@ -299,7 +245,33 @@ def test_a_pickled_weights_file_is_a_value_error_even_when_trusted(tmp_path: Pat
     for name in ("model.zip", "metadata.json", "normalization.npz"):
         shutil.copy(MODELS_DIR / "ppo-residual" / name, legacy / name)
     marker = tmp_path / "marker"
-    _poison_zip(legacy / "model.zip", marker, member="policy.pth")
+    poison_zip(legacy / "model.zip", marker, member="policy.pth")
     with pytest.raises(ValueError, match="corrupt"):
         load(legacy, trust_pickle=True)  # torch's weights-only reader refuses the pickle
     assert not marker.exists()
+
+
+@pytest.mark.parametrize("name", ["ppo-pose-layer", "dagger-student"])
+def test_models_saved_before_the_regrouping_load_by_the_table_of_former_paths(name: str) -> None:
+    # the shipped models were saved when the extractors were agents.learned.extractors
+    folder = MODELS_DIR / name
+    former = "agents.learned.extractors.LandmarkPoseExtractor"
+    assert former in (folder / "policy.json").read_text()
+    assert current_name(former) == "agents.learned.networks.extractors.LandmarkPoseExtractor"
+    safe = load(name)
+    extractor = safe.model.features_extractor
+    assert type(extractor).__module__ == "agents.learned.networks.extractors"
+    # a trusted model.zip: its pickles import the former module path
+    legacy = load(folder / "model.zip", trust_pickle=True)
+    assert type(legacy.model.policy.features_extractor) is type(extractor)
+    obs = {k: v.sample() for k, v in safe.model.observation_space.spaces.items()}
+    np.testing.assert_array_equal(safe.predict(obs)[0], legacy.predict(obs)[0])
+
+
+def test_every_former_module_path_names_a_current_module() -> None:
+    import importlib
+
+    for former, current in FORMER_MODULES.items():
+        assert former.startswith("agents.learned.") and former.count(".") == 2
+        importlib.import_module(current)
+    assert current_name("torch.nn.modules.activation.ReLU") == "torch.nn.modules.activation.ReLU"

@@ -1,6 +1,7 @@
 """Where a trained model came from: the command, the config and the code's revision.
 
-Training (:mod:`agents.learned.training`) and distillation (:mod:`agents.learned.distill`) write
+Training (:mod:`agents.learned.training.train`) and distillation
+(:mod:`agents.learned.dagger.distill`) write
 the same provenance into a model's ``metadata.json``, so a model names what made it.
 """
 

@@ -27,7 +27,8 @@ from typing import Any
 import numpy as np
 
 from agents.io import write_atomic
-from agents.learned.policy_size import (
+from agents.learned.files.former_paths import current_name
+from agents.learned.files.policy_size import (
     check_finite_weights,
     check_policy_size,
     check_weight_types,
@@ -90,7 +91,7 @@ def _allowed_classes() -> dict[str, type]:
     import torch
     from stable_baselines3.common import torch_layers
 
-    from agents.learned import extractors
+    from agents.learned.networks import extractors
 
     groups = (
         (vars(torch.nn.modules.activation).values(), torch.nn.Module),
@@ -128,6 +129,8 @@ def _decode(value: Any, where: str, allowed: dict[str, type]) -> Any:
     if isinstance(value, dict):
         if set(value) == {"__class__"}:
             name = value["__class__"]
+            if isinstance(name, str):
+                name = current_name(name)  # a model saved before agents.learned was regrouped
             if name not in allowed:
                 raise ValueError(f"{where}: class {str(name)[:80]!r} is not allowed")
             return allowed[name]

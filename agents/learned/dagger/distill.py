@@ -2,7 +2,7 @@
 
 The teacher (the ``planner`` by default) sees the poses and the map; the student sees only what
 the other learned models see (the features observation: landmark slots, ``c_ij`` errors,
-``alpha_m`` error, goal depths; optionally a short history, :mod:`agents.learned.history`).
+``alpha_m`` error, goal depths; optionally a short history, :mod:`agents.learned.networks.history`).
 Each round:
 
 1. the vector env is stepped with, per robot and step, the teacher's action with probability
@@ -17,8 +17,8 @@ written here, over SB3's policy and torch. Observations are normalised with stat
 after the first round, stored as the model's ``normalization.npz``; the result is an SB3 PPO
 model directory that :func:`agents.load` runs like the others, with no analytic policy in it.
 About 490 lines: the DAgger loop and the student's fitting, which share the round's state; the
-settings are in :mod:`agents.learned.distill_config`, the provenance in
-:mod:`agents.learned.provenance`.
+settings are in :mod:`agents.learned.dagger.distill_config`, the provenance in
+:mod:`agents.learned.files.provenance`.
 """
 
 from __future__ import annotations
@@ -34,16 +34,16 @@ import numpy as np
 
 from agents.analytic import make_analytic
 from agents.io import write_json
-from agents.learned import extractors
-from agents.learned.distill_config import (
+from agents.learned.dagger.distill_config import (
     ACTIVATIONS,
     EXTRACTORS,
     PRIVILEGED,
     DaggerConfig,
     load_dagger_config,
 )
-from agents.learned.extractors import POSE_HISTORY_KEYS, error_key_of, raw_keys
-from agents.learned.history import HistoryConfig, HistoryStack, history_space
+from agents.learned.networks import extractors
+from agents.learned.networks.extractors import POSE_HISTORY_KEYS, error_key_of, raw_keys
+from agents.learned.networks.history import HistoryConfig, HistoryStack, history_space
 from radial_ibvs_gym.geometry import relative_pose
 
 __all__ = [
@@ -123,8 +123,8 @@ def dagger(
     from stable_baselines3.common.running_mean_std import RunningMeanStd
     from tqdm.auto import tqdm
 
-    from agents.learned.saving import save_model_dir
-    from agents.learned.sb3_vec_env import make_vec_env, spaces_env
+    from agents.learned.files.saving import save_model_dir
+    from agents.learned.training.sb3_vec_env import make_vec_env, spaces_env
 
     torch.set_num_threads(torch_threads)
     torch.manual_seed(seed)
@@ -290,7 +290,7 @@ def dataset_labels(
     ValueError
         If the dataset lacks a key the student or the auxiliary targets need (naming it).
     """
-    from agents.learned.datasets import load_collected
+    from agents.learned.dagger.datasets import load_collected
 
     data = load_collected(path)
     parts: dict[str, list[np.ndarray]] = {}
@@ -406,7 +406,7 @@ def _fit(
 
 def _evaluate(config: DaggerConfig, act: Any, base_keys: list[str], seed: int) -> float:
     """Success rate of ``act`` over the held-out episodes (each robot's first episode)."""
-    from agents.learned.sb3_vec_env import make_vec_env
+    from agents.learned.training.sb3_vec_env import make_vec_env
 
     n = config.eval_episodes
     venv = make_vec_env(config.env_id, n, seed=config.eval_seed, monitor=False, **config.env_kwargs)
@@ -432,7 +432,7 @@ def _vec_normalize(
     """Return a ``VecNormalize`` holding the DAgger statistics (``save_normalization`` input)."""
     from stable_baselines3.common.vec_env import VecNormalize
 
-    from agents.learned.sb3_vec_env import spaces_env
+    from agents.learned.training.sb3_vec_env import spaces_env
 
     venv = VecNormalize(
         spaces_env(space, action_space),
@@ -449,7 +449,7 @@ def _vec_normalize(
 def _metadata(
     config: DaggerConfig, seed: int, rows: list[dict[str, float]], command: str | None
 ) -> dict[str, Any]:
-    from agents.learned.provenance import jsonable, provenance
+    from agents.learned.files.provenance import jsonable, provenance
 
     return {
         "trained_by": "dagger",

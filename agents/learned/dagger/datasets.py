@@ -1,7 +1,7 @@
 """Minari datasets on local disk: where they are and how to read one (no hub).
 
 :mod:`agents.experiments.collect` writes them (``radial-ibvs collect``);
-:mod:`agents.learned.distill` reads a teacher's dataset as its first labels.
+:mod:`agents.learned.dagger.distill` reads a teacher's dataset as its first labels.
 """
 
 from __future__ import annotations

@@ -8,7 +8,8 @@ a progress bar, resuming from a checkpoint; the result is a model directory that
 best model in ``best/``, and SB3's own ``model.zip`` for SB3 users and for resuming.
 
 About 500 lines: :func:`train` and the callbacks, resuming and export it needs; the model files
-are in :mod:`agents.learned.model_files`, the provenance in :mod:`agents.learned.provenance`.
+are in :mod:`agents.learned.files.model_files`, the provenance in
+:mod:`agents.learned.files.provenance`.
 """
 
 from __future__ import annotations
@@ -31,10 +32,7 @@ from stable_baselines3.common.vec_env import VecNormalize
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from agents.io import write_json
-from agents.learned.curriculum import StartReachCurriculum
-from agents.learned.fine_tune import CriticWarmup
-from agents.learned.history import HistoryConfig, history_vec_env
-from agents.learned.model_files import (
+from agents.learned.files.model_files import (
     DESCRIPTION,
     WEIGHTS,
     algorithms,
@@ -44,16 +42,19 @@ from agents.learned.model_files import (
     save_normalization,
     save_policy,
 )
-from agents.learned.provenance import jsonable, provenance, versions
-from agents.learned.residual import ResidualVecEnv
-from agents.learned.tolerance_eval import ToleranceEvalCallback, read_tolerance_curve
-from agents.learned.zoo_config import TRAIN_EXTRACTORS, TrainConfig
+from agents.learned.files.provenance import jsonable, provenance, versions
+from agents.learned.networks.history import HistoryConfig, history_vec_env
+from agents.learned.networks.residual import ResidualVecEnv
+from agents.learned.training.curriculum import StartReachCurriculum
+from agents.learned.training.fine_tune import CriticWarmup
+from agents.learned.training.tolerance_eval import ToleranceEvalCallback, read_tolerance_curve
+from agents.learned.training.zoo_config import TRAIN_EXTRACTORS, TrainConfig
 from agents.plotting import save_figure
 from agents.untrusted import check_archive, read_json
 
 __all__ = ["ALGOS", "export_model", "save_normalization", "train"]
 
-#: the algorithms by name (one table: :func:`agents.learned.model_files.algorithms`)
+#: the algorithms by name (one table: :func:`agents.learned.files.model_files.algorithms`)
 ALGOS: dict[str, Any] = algorithms()
 
 
@@ -227,7 +228,7 @@ def _with_extractor(config: TrainConfig, space: Any) -> tuple[dict[str, Any], li
     """
     if config.extractor is None:
         return dict(config.policy_kwargs), None
-    from agents.learned import extractors
+    from agents.learned.networks import extractors
 
     if config.extractor == "goal_pose":  # every key read raw
         extractor = {"features_extractor_class": extractors.GoalPoseExtractor}
@@ -255,7 +256,7 @@ def _with_extractor(config: TrainConfig, space: Any) -> tuple[dict[str, Any], li
 
 def _make_venv(env_id: str, n_envs: int, seed: int, env_kwargs: dict[str, Any]) -> Any:
     """Make the native batched ``VecEnv`` where the id has one, else SB3's ``DummyVecEnv``."""
-    from agents.learned.sb3_vec_env import make_vec_env
+    from agents.learned.training.sb3_vec_env import make_vec_env
     from radial_ibvs_gym.registration import VECTOR_ENTRY_POINTS
 
     native = env_id in VECTOR_ENTRY_POINTS and env_kwargs.get("measurement") != "detected"
@@ -282,7 +283,7 @@ def train(
     Parameters
     ----------
     config
-        The validated configuration (:func:`agents.learned.zoo_config.load_train_config`).
+        The validated configuration (:func:`agents.learned.training.zoo_config.load_train_config`).
     out_dir
         Output directory (created).
     algo
@@ -429,7 +430,7 @@ def train(
 
 def _write_sb3_zip(folder: Path, path: Path) -> None:
     """Write a stable-baselines3 PPO ``model.zip`` holding the policy of ``folder``."""
-    from agents.learned.sb3_vec_env import spaces_env
+    from agents.learned.training.sb3_vec_env import spaces_env
 
     policy, _ = load_policy(folder)
     env = spaces_env(policy.observation_space, policy.action_space)
@@ -511,7 +512,8 @@ def export_model(
         rather than the last one.
     residual_gate
         For a residual model: the ``gate`` to deploy it with
-        (:class:`agents.learned.residual.ResidualConfig`), when it differs from training's; the
+        (:class:`agents.learned.networks.residual.ResidualConfig`), when it differs from
+        training's; the
         metadata keeps the training value as ``residual_trained``.
     note
         A line for the metadata (``export_note``): how the export was chosen.
@@ -548,7 +550,7 @@ def export_model(
         top = max(metadata["learning_curve"], key=lambda r: r["mean_return"])
         metadata["shipped_at_timesteps"] = top["timesteps"]
     if residual_gate is not None:
-        from agents.learned.residual import ResidualConfig
+        from agents.learned.networks.residual import ResidualConfig
 
         if not metadata.get("residual"):
             raise ValueError(f"{src} is not a residual model: residual_gate does not apply")

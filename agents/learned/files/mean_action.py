@@ -6,7 +6,7 @@ call. For one robot that costs more than the network (the student: about a quart
 time alone). :func:`mean_action` does only the operations that make the action, in the same
 order (the features, the actor's latent, the action net, SB3's clip), in inference mode: the
 same bits as ``predict`` (``tests/agents/learned/test_learned_predict.py``). It serves the
-policies it fits (:func:`actor_layers`); :class:`~agents.learned.loading.LearnedPolicy` sends
+policies it fits (:func:`actor_layers`); :class:`~agents.learned.files.loading.LearnedPolicy` sends
 the others, stochastic calls and calls with a state to SB3's ``predict``.
 """
 

@@ -1,4 +1,7 @@
-"""The settings of DAgger (:mod:`agents.learned.distill`): ``configs/agents/dagger_*.yaml``."""
+"""The settings of DAgger (:mod:`agents.learned.dagger.distill`): ``dagger_*.yaml`` configs.
+
+The shipped ones are ``configs/agents/dagger_*.yaml``.
+"""
 
 from __future__ import annotations
 
@@ -9,8 +12,9 @@ from pathlib import Path
 from typing import Any
 
 from agents.analytic import make_analytic
-from agents.learned.extractors import ERROR_KEYS
-from agents.learned.history import HistoryConfig
+from agents.learned.networks import EXTRACTORS
+from agents.learned.networks.extractors import ERROR_KEYS
+from agents.learned.networks.history import HistoryConfig
 from radial_ibvs_gym.config import read_yaml_with_base
 from radial_ibvs_gym.registration import check_env_id
 
@@ -18,12 +22,6 @@ __all__ = ["ACTIVATIONS", "EXTRACTORS", "PRIVILEGED", "DaggerConfig", "load_dagg
 
 #: the student's activations, by name (torch.nn classes)
 ACTIVATIONS = {"relu": "ReLU", "tanh": "Tanh"}
-#: the student's feature extractors, by name (classes of :mod:`agents.learned.extractors`)
-EXTRACTORS = {
-    "error_scale": "ErrorScaleExtractor",
-    "landmark_set": "LandmarkSetExtractor",
-    "landmark_pose": "LandmarkPoseExtractor",
-}
 #: what the teacher needs added to the observation (the planner's poses and map)
 PRIVILEGED = {"privileged": True, "privileged_map": True}
 
@@ -67,7 +65,7 @@ class DaggerConfig:
         The observation history the student gets (:class:`HistoryConfig`), or ``None``.
     error_keys
         The keys given to the network as direction and log-size
-        (:class:`agents.learned.extractors.ErrorScaleExtractor`); empty: raw, normalised.
+        (:class:`agents.learned.networks.extractors.ErrorScaleExtractor`); empty: raw, normalised.
     initial_dataset
         A Minari dataset of the teacher's episodes (``radial-ibvs collect --policy planner``,
         its directory): its states and actions join the labels before the first round.
@@ -75,12 +73,12 @@ class DaggerConfig:
         Give the network the image error ``x_n - x_n*`` too, as direction and log-size.
     angle_keys
         Error keys that are wrapped angles, given continuously across the wrap
-        (``angle_keys`` of :class:`agents.learned.extractors.ErrorScaleExtractor`).
+        (``angle_keys`` of :class:`agents.learned.networks.extractors.ErrorScaleExtractor`).
     extractor
-        ``error_scale`` (:class:`agents.learned.extractors.ErrorScaleExtractor`),
-        ``landmark_set`` (:class:`agents.learned.extractors.LandmarkSetExtractor`: the same
+        ``error_scale`` (:class:`agents.learned.networks.extractors.ErrorScaleExtractor`),
+        ``landmark_set`` (:class:`agents.learned.networks.extractors.LandmarkSetExtractor`: the same
         features plus a learned encoding of the landmarks as a set) or ``landmark_pose``
-        (:class:`agents.learned.extractors.LandmarkPoseExtractor`: those plus the goal's
+        (:class:`agents.learned.networks.extractors.LandmarkPoseExtractor`: those plus the goal's
         pose solved from the image's bearings).
     pose_history
         With ``landmark_pose``: solve the goal's pose in each past frame of the ``history``

@@ -1,7 +1,7 @@
 """Save a model trained with stable-baselines3 as a model directory that every command takes.
 
 :func:`save_model_dir` writes the files :func:`agents.load` reads (no pickles:
-:mod:`agents.learned.model_files`) and a ``metadata.json`` holding the env id and the
+:mod:`agents.learned.files.model_files`) and a ``metadata.json`` holding the env id and the
 ``gym.make`` arguments the model was trained with. Those are read from the env the model was
 trained on (``model.get_env()``, or an env or ``VecEnv`` given), so they are not typed again;
 :func:`env_spec_of` is that reading.
@@ -13,7 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from agents.io import write_json
-from agents.learned.model_files import algorithms, save_normalization, save_policy
+from agents.learned.files.model_files import algorithms, save_normalization, save_policy
 from radial_ibvs_gym.registration import check_env_id
 
 __all__ = ["env_spec_of", "save_model_dir"]
@@ -113,7 +113,7 @@ def save_model_dir(
     ----------
     model
         A trained ``PPO``, ``SAC`` or ``TQC`` model (the algorithms of
-        :func:`~agents.learned.model_files.algorithms`).
+        :func:`~agents.learned.files.model_files.algorithms`).
     directory
         The model directory to write (created).
     env

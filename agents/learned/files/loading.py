@@ -1,7 +1,7 @@
 """Trained models as policies: load a saved (or shipped) model with its observation statistics.
 
 A model directory holds ``policy.safetensors`` and ``policy.json`` (the policy's weights and
-its description, :mod:`agents.learned.model_files`), ``normalization.npz`` (the
+its description, :mod:`agents.learned.files.model_files`), ``normalization.npz`` (the
 ``VecNormalize`` observation statistics, if training normalised observations) and
 ``metadata.json`` (algorithm, env id and ``gym.make`` arguments, seed, command, git revision,
 training figures); none of them can run code when read. A stable-baselines3 ``model.zip`` may
@@ -19,7 +19,8 @@ from typing import Any
 
 import numpy as np
 
-from agents.learned.model_files import (
+from agents.learned.files.former_paths import alias_former_modules
+from agents.learned.files.model_files import (
     DESCRIPTION,
     WEIGHTS,
     algorithms,
@@ -33,7 +34,7 @@ from radial_ibvs_gym.registration import check_env_id
 __all__ = ["MODELS_DIR", "LearnedPolicy", "load", "shipped_models"]
 
 #: where the shipped models live (inside the package, so wheels carry them)
-MODELS_DIR = Path(__file__).resolve().parent / "models"
+MODELS_DIR = Path(__file__).resolve().parents[1] / "models"
 
 
 class LearnedPolicy:
@@ -144,12 +145,14 @@ class LearnedPolicy:
         return np.asarray(action, dtype=np.float32), state
 
     def _mean_action(self, observation: dict[str, np.ndarray]) -> np.ndarray | None:
-        """Return SB3's deterministic action by :func:`~agents.learned.mean_action.mean_action`.
+        """Return SB3's deterministic action, computed without SB3's per-call work.
+
+        :func:`~agents.learned.files.mean_action.mean_action`.
 
         ``None`` where the model is not a policy that path fits (it then goes through SB3's
         ``predict``).
         """
-        from agents.learned.mean_action import mean_action
+        from agents.learned.files.mean_action import mean_action
 
         fast = self._fast_path()
         return None if fast is None else mean_action(*fast, observation)
@@ -157,9 +160,9 @@ class LearnedPolicy:
     def _fast_path(self) -> tuple[Any, list[Any]] | None:
         """Return the SB3 policy and its actor's layers as functions, if the fast path fits.
 
-        Decided once per model (:func:`~agents.learned.mean_action.actor_layers`).
+        Decided once per model (:func:`~agents.learned.files.mean_action.actor_layers`).
         """
-        from agents.learned.mean_action import actor_layers
+        from agents.learned.files.mean_action import actor_layers
 
         policy = getattr(self.model, "policy", self.model)
         cached: tuple[Any, list[Any] | None] | None = getattr(self, "_fast", None)
@@ -234,7 +237,7 @@ def load(name_or_path: str | Path, *, trust_pickle: bool = False) -> Any:
     """Load a shipped model by name (e.g. ``"ppo-residual"``) or a model directory.
 
     A model directory holds ``policy.safetensors`` and ``policy.json`` (the policy's weights
-    and its description: :mod:`agents.learned.model_files`), ``metadata.json`` and, if
+    and its description: :mod:`agents.learned.files.model_files`), ``metadata.json`` and, if
     training normalised observations, ``normalization.npz``: nothing in them can run code.
     A stable-baselines3 ``model.zip`` beside them is never read. A directory with only a
     ``model.zip`` (or the path of a ``.zip``) is refused unless ``trust_pickle`` is set.
@@ -251,7 +254,8 @@ def load(name_or_path: str | Path, *, trust_pickle: bool = False) -> Any:
 
     Returns
     -------
-    LearnedPolicy, agents.learned.history.HistoryPolicy or agents.learned.residual.ResidualPolicy
+    LearnedPolicy, agents.learned.networks.history.HistoryPolicy or
+    agents.learned.networks.residual.ResidualPolicy
         A ``HistoryPolicy`` when the metadata has a ``history`` entry (the model sees the last
         frames; the policy keeps them in its ``state``), a ``ResidualPolicy`` when it has a
         ``residual`` entry (a correction to an analytic policy, which it builds too).
@@ -315,12 +319,12 @@ def load(name_or_path: str | Path, *, trust_pickle: bool = False) -> Any:
     name = str(name_or_path) if is_bare_name(name_or_path) else directory.name
     learned: Any = LearnedPolicy(model, metadata, normalization, name)
     if metadata.get("history") is not None:
-        from agents.learned.history import HistoryConfig, HistoryPolicy
+        from agents.learned.networks.history import HistoryConfig, HistoryPolicy
 
         history = HistoryConfig.from_mapping(metadata["history"], f"{meta_path}: history")
         learned = HistoryPolicy(learned, history)
     if metadata.get("residual") is not None:
-        from agents.learned.residual import ResidualConfig, ResidualPolicy
+        from agents.learned.networks.residual import ResidualConfig, ResidualPolicy
 
         residual = ResidualConfig.from_mapping(metadata["residual"], f"{meta_path}: residual")
         return ResidualPolicy(learned, residual)
@@ -366,6 +370,7 @@ def _load_sb3_zip(zip_path: Path, metadata: dict[str, Any], label: str) -> Any:
         if algo != "ppo"
         else None
     )
+    alias_former_modules()  # its pickles name classes by the paths they had when it was saved
     try:
         return algos[algo].load(zip_path, device="cpu", custom_objects=inference)
     except (

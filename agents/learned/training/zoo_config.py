@@ -15,10 +15,10 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from agents.learned.curriculum import CurriculumConfig
-from agents.learned.distill_config import EXTRACTORS
-from agents.learned.fine_tune import FineTuneConfig
-from agents.learned.residual import ResidualConfig
+from agents.learned.networks import TRAIN_EXTRACTORS
+from agents.learned.networks.residual import ResidualConfig
+from agents.learned.training.curriculum import CurriculumConfig
+from agents.learned.training.fine_tune import FineTuneConfig
 from radial_ibvs_gym.config import read_yaml_with_base
 from radial_ibvs_gym.registration import check_env_id
 
@@ -27,9 +27,8 @@ __all__ = ["TRAIN_EXTRACTORS", "TrainConfig", "load_train_config", "parse_kwargs
 #: rl-zoo3's keys that are not the algorithm's keyword arguments
 _ZOO_KEYS = {"n_envs", "n_timesteps", "policy", "normalize", "policy_kwargs", "env_wrapper"}
 #: the feature extractors a training config may name (``radial_ibvs_gym.extractor``): the
-#: student's (classes of :mod:`agents.learned.extractors`), and the pose layer on
+#: student's (classes of :mod:`agents.learned.networks.extractors`), and the pose layer on
 #: ``ParkingGoal-v1``'s goals for HER
-TRAIN_EXTRACTORS = {**EXTRACTORS, "goal_pose": "GoalPoseExtractor"}
 
 _META_KEYS = {
     "env_kwargs", "eval_freq", "eval_episodes", "eval_seed", "residual", "curriculum", "fine_tune",
@@ -63,17 +62,18 @@ class TrainConfig:
         Evaluation every ``eval_freq`` env steps on ``eval_episodes`` held-out episodes seeded
         from ``eval_seed``.
     residual
-        Train a correction to an analytic policy (:class:`agents.learned.residual.ResidualConfig`),
+        Train a correction to an analytic policy
+        (:class:`agents.learned.networks.residual.ResidualConfig`),
         or ``None`` for a policy from scratch.
     curriculum
         A reverse curriculum on the training envs' ``start_reach``
-        (:class:`agents.learned.curriculum.CurriculumConfig`), or ``None``.
+        (:class:`agents.learned.training.curriculum.CurriculumConfig`), or ``None``.
     fine_tune
-        How a fine-tuning from a student starts (:class:`agents.learned.fine_tune.
+        How a fine-tuning from a student starts (:class:`agents.learned.training.fine_tune.
         FineTuneConfig`), or ``None``; used only with ``init_from``.
     extractor
         ``None`` (SB3's ``CombinedExtractor`` on the normalised observation) or the name of one
-        of the student's feature extractors (:data:`agents.learned.training.TRAIN_EXTRACTORS`:
+        of the student's feature extractors (:data:`agents.learned.networks.TRAIN_EXTRACTORS`:
         ``landmark_pose`` adds the goal's pose solved from the bearings; ``goal_pose`` is the
         same on ``ParkingGoal-v1`` with ``goal_depths``, for HER); the keys it reads raw are
         left out of the normalisation.

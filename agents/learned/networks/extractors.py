@@ -25,7 +25,7 @@ import torch
 from gymnasium import spaces
 from stable_baselines3.common.torch_layers import BaseFeaturesExtractor
 
-from agents.learned.pose_layer import POSE_FEATURES, goal_pose_features
+from agents.learned.networks.pose_layer import POSE_FEATURES, goal_pose_features
 
 __all__ = [
     "ERROR_KEYS",
@@ -301,9 +301,10 @@ class LandmarkPoseExtractor(LandmarkSetExtractor):
     The landmark tokens hold the coefficients of each landmark's bearing constraint, but a
     pooled encoding leaves the network to solve the constraints jointly, and near the goal,
     where parking needs the last centimetre and degree, its estimate is coarsest. Here the
-    constraints are solved in closed form (:func:`agents.learned.pose_layer.solve_goal_pose`:
+    constraints are solved in closed form
+    (:func:`agents.learned.networks.pose_layer.solve_goal_pose`:
     a least-squares fit over every landmark seen in both images, no parameters) and the
-    solved pose is appended as :func:`agents.learned.pose_layer.goal_pose_features`: the
+    solved pose is appended as :func:`agents.learned.networks.pose_layer.goal_pose_features`: the
     goal's position in the robot's frame, the robot's in the goal's, the heading error, each
     also as a soft sign sharp within ``pose_eps`` metres, and a validity flag (three
     landmarks or more). Nothing decides the action but the network.

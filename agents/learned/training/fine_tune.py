@@ -1,6 +1,6 @@
 """PPO fine-tuning of a distilled student: its exploration noise and a critic warm-up.
 
-A DAgger student (:mod:`agents.learned.distill`) arrives with a trained actor, an untrained
+A DAgger student (:mod:`agents.learned.dagger.distill`) arrives with a trained actor, an untrained
 critic and the exploration noise it was built with. PPO started from it as it is forgets what
 it learned: its first advantages come from a random critic, and its actions are drawn with a
 noise under which the student hardly parks (its deterministic actions park; drawn with a

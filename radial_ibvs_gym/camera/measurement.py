@@ -1,0 +1,102 @@
+"""Measuring through a real camera: normalised image points as the paper's set-up gets them.
+
+The exact projection through the mirror with the camera's true intrinsics, tilt, offset and
+pixel noise, then eq. (7) with the *nominal* principal point and ``rho_f``: what a calibrated,
+imperfect camera measures (:func:`camera_image`), for one camera or many at once
+(:func:`camera_images`, the same bits row by row). The envs' imperfect cameras call these.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+from numpy.typing import NDArray
+
+from radial_ibvs_gym.camera.batch import forward_batch, shares_reflection
+from radial_ibvs_gym.camera.catadioptric import CatadioptricCamera
+from radial_ibvs_gym.camera.radial import normalise_pixels
+
+__all__ = ["camera_image", "camera_images"]
+
+Array = NDArray[np.float64]
+
+
+def camera_image(
+    camera: CatadioptricCamera, p_cam: Array, rng: np.random.Generator | None
+) -> tuple[Array, NDArray[np.bool_]]:
+    """Normalised image points of a real camera, measured as the paper's set-up does.
+
+    Exact projection through the mirror with the true intrinsics, tilt and offset, pixel noise
+    from ``rng``, then eq. (7) with the *nominal* principal point and ``rho_f``. An ideal
+    concave (self-occluding) mirror is handled exactly without the projection.
+
+    Parameters
+    ----------
+    camera
+        The camera (one env's).
+    p_cam
+        ``(N, 3)`` landmarks in the camera frame, metres.
+    rng
+        The env's generator (pixel noise); ``None``: no noise.
+
+    Returns
+    -------
+    points, visible
+        ``(N, 2)`` (zeros where hidden) and ``(N,)``.
+    """
+    if not camera.imperfections.any:  # an on-axis concave mirror: exact visibility
+        visible = camera.visible(p_cam, validate=False)
+        d = np.hypot(p_cam[:, 0], p_cam[:, 1])
+        return p_cam[:, :2] * (visible / np.maximum(d, 1e-300))[:, None], visible
+    proj = camera.forward(p_cam, rng=rng)
+    k = camera.intrinsics
+    pixels = np.where(proj.visible[:, None], proj.pixels, k.principal_point + 1.0)
+    x_n = normalise_pixels(pixels, k.principal_point, k.rho_f)
+    return np.where(proj.visible[:, None], x_n, 0.0), proj.visible
+
+
+def camera_images(
+    cameras: Sequence[CatadioptricCamera],
+    p_cam: Array,
+    rngs: Sequence[np.random.Generator | None],
+) -> tuple[Array, NDArray[np.bool_]]:
+    """:func:`camera_image` for ``K`` cameras at once, each with its own generator.
+
+    The cameras with imperfections that share the mirror's reflection
+    (:func:`~radial_ibvs_gym.camera.batch.shares_reflection`) are projected in one batched
+    root-find (:func:`~radial_ibvs_gym.camera.batch.forward_batch`); the result is, row for
+    row and bit for bit, what :func:`camera_image` gives each camera.
+
+    Parameters
+    ----------
+    cameras
+        ``K`` cameras (one per env).
+    p_cam
+        ``(K, N, 3)`` landmarks, row ``k`` in camera ``k``'s frame, metres.
+    rngs
+        ``K`` generators (pixel noise; ``None``: none).
+
+    Returns
+    -------
+    points, visible
+        ``(K, N, 2)`` (zeros where hidden) and ``(K, N)``.
+    """
+    k, n = p_cam.shape[:2]
+    points = np.zeros((k, n, 2))
+    visible = np.zeros((k, n), dtype=bool)
+    batched = [i for i, c in enumerate(cameras) if c.imperfections.any]
+    for i in sorted(set(range(k)) - set(batched)):
+        points[i], visible[i] = camera_image(cameras[i], p_cam[i], rngs[i])
+    group = [cameras[i] for i in batched]
+    if len(group) < 2 or not shares_reflection(group):
+        for i in batched:
+            points[i], visible[i] = camera_image(cameras[i], p_cam[i], rngs[i])
+        return points, visible
+    proj = forward_batch(group, p_cam[batched], [rngs[i] for i in batched])
+    nominal = group[0].intrinsics  # shared by the group
+    pixels = np.where(proj.visible[..., None], proj.pixels, nominal.principal_point + 1.0)
+    x_n = normalise_pixels(pixels, nominal.principal_point, nominal.rho_f)
+    points[batched] = np.where(proj.visible[..., None], x_n, 0.0)
+    visible[batched] = proj.visible
+    return points, visible
