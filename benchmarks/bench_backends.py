@@ -33,8 +33,8 @@ def _strip(results) -> list:
 
 def overhead(episodes: int, workers: int) -> float:
     """Run the same jobs locally and on Ray; print and return the wall-time ratio."""
-    from agents.experiments.backends import RayBackend
-    from agents.experiments.benchmark import run_benchmark
+    from radial_ibvs_agents.experiments.backends import RayBackend
+    from radial_ibvs_agents.experiments.benchmark import run_benchmark
 
     kwargs = {"episodes": episodes, "workers": workers, "progress": False}
     start = time.perf_counter()
@@ -60,8 +60,8 @@ def overhead(episodes: int, workers: int) -> float:
 
 def study(workers: int, ratio: float, probe: int) -> None:
     """Per-variant episode cost (one process) and the 10-seed study on 1, 4, 16 machines."""
-    from agents.experiments.jobs import Job, run_job
-    from agents.experiments.suites import SUITES
+    from radial_ibvs_agents.experiments.jobs import Job, run_job
+    from radial_ibvs_agents.experiments.suites import SUITES
 
     print(f"\n2. seconds per episode (ibvs, one process, {probe} episodes per variant)")
     total = 0.0

@@ -17,9 +17,9 @@ import time
 
 import torch
 
-import agents.rollouts as rollouts
-from agents.experiments import jobs
-from agents.experiments.suites import SUITES
+import radial_ibvs_agents.rollouts as rollouts
+from radial_ibvs_agents.experiments import jobs
+from radial_ibvs_agents.experiments.suites import SUITES
 
 POLICIES = (
     "ibvs",

@@ -41,7 +41,14 @@ def main() -> None:
     args = parser.parse_args()
     if args.workers < 1:
         parser.error(f"--workers must be >= 1, got {args.workers}")
-    command = [sys.executable, "-m", "agents.cli", "benchmark", "--workers", str(args.workers)]
+    command = [
+        sys.executable,
+        "-m",
+        "radial_ibvs_agents.cli",
+        "benchmark",
+        "--workers",
+        str(args.workers),
+    ]
     command += ["--out", args.out, "--fresh", "--no-progress"]
     if args.suites:
         command += ["--suites", *args.suites]

@@ -14,7 +14,7 @@ import timeit
 
 import numpy as np
 
-from agents import IBVSPolicy
+from radial_ibvs_agents import IBVSPolicy
 from radial_ibvs_gym.features import L_alpha_m, L_cij, alpha_m, c_ij, virtual_point_weights
 
 

@@ -17,8 +17,8 @@ import gymnasium as gym
 import numpy as np
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
-from agents import IBVSPolicy
-from agents.rollouts import run_episode
+from radial_ibvs_agents import IBVSPolicy
+from radial_ibvs_agents.rollouts import run_episode
 
 
 def _camera(**imperfections: Any) -> dict[str, Any]:

@@ -26,7 +26,7 @@ import gymnasium as gym
 import numpy as np
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
-from agents.experiments.pixels import DEGRADED, detection_accuracy
+from radial_ibvs_agents.experiments.pixels import DEGRADED, detection_accuracy
 from radial_ibvs_gym.scenarios import load_scenario
 from radial_ibvs_gym.vision import OmniRenderer
 from radial_ibvs_gym.vision.detect import measure

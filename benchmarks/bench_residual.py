@@ -2,8 +2,8 @@
 
 Usage: ``python benchmarks/bench_residual.py [--envs 256] [--steps 300] [--repeats 3]``.
 
-A residual env (:class:`agents.learned.ResidualVecEnv`) steps the native vector env and, at
-every step, its base policy (the paper's IBVS) for the whole batch. To time the base policy's
+A residual env (:class:`radial_ibvs_agents.learned.ResidualVecEnv`) steps the native vector env and,
+at every step, its base policy (the paper's IBVS) for the whole batch. To time the base policy's
 cost and nothing else, both envs run the *same* trajectories:
 
 1. the residual env, with a zero correction (the env receives the base actions), records the
@@ -11,11 +11,11 @@ cost and nothing else, both envs run the *same* trajectories:
 2. the plain vector env, seeded the same, replays those actions: the same robots, the same
    episode ends, the same resets.
 
-The ratio ``plain / residual`` of their step times is the one the residual costs; it is
-printed with and without the per-episode goal cache (:class:`agents.analytic.ibvs_maths_batch.
-GoalCache`), beside the plain env stepped with zero actions (no episode ever ends: the env's
-own ceiling). Steps per second are env steps (robots times batched steps); best of
-``--repeats``.
+The ratio ``plain / residual`` of their step times is the one the residual costs; it is printed with
+and without the per-episode goal cache
+(:class:`radial_ibvs_agents.analytic.ibvs_maths_batch. GoalCache`), beside the plain env stepped
+with zero actions (no episode ever ends: the env's own ceiling). Steps per second are env steps
+(robots times batched steps); best of ``--repeats``.
 """
 
 from __future__ import annotations
@@ -27,9 +27,9 @@ from typing import Any
 
 import numpy as np
 
-from agents.analytic import ibvs_maths_batch
-from agents.learned.networks.residual import ResidualConfig, ResidualVecEnv
-from agents.learned.training.sb3_vec_env import make_vec_env
+from radial_ibvs_agents.analytic import ibvs_maths_batch
+from radial_ibvs_agents.learned.networks.residual import ResidualConfig, ResidualVecEnv
+from radial_ibvs_agents.learned.training.sb3_vec_env import make_vec_env
 
 ENV_ID = "RadialIBVS/Parking-v0"
 #: the env of the shipped residual model (configs/agents/ppo_residual.yaml)

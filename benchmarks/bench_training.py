@@ -5,11 +5,13 @@ Usage: ``python benchmarks/bench_training.py [--quick]`` (or ``make bench``).
 1. ``radial-ibvs train`` with the shipped config (``configs/agents/ppo_parking.yaml``) for a
    few thousand steps with 1 and 4 envs: env steps per second while training.
 2. The native vector env against the learner's ceiling: the same PPO (net [64, 64], batch
-   4096, 5 epochs, one torch thread, rollouts of 16,384 steps) on ``agents.make_vec_env`` with
-   64 and 256 envs, on SB3's ``DummyVecEnv`` of scalar envs, and on a no-op ``VecEnv`` with the
-   same spaces (an env that costs nothing: the fastest this PPO can go).
-3. Each shipped model's training log (``agents/learned/models/<name>/progress.csv``): when its
-   held-out success rate first reached the paper's IBVS on the same scenario.
+   4096, 5 epochs, one torch thread, rollouts of 16,384 steps) on
+   ``radial_ibvs_agents.make_vec_env`` with 64 and 256 envs, on SB3's ``DummyVecEnv`` of scalar
+   envs, and on a no-op ``VecEnv`` with the same spaces (an env that costs nothing: the fastest this
+   PPO can go).
+3. Each shipped model's training log
+   (``agents/radial_ibvs_agents/learned/models/<name>/progress.csv``): when its held-out success
+   rate first reached the paper's IBVS on the same scenario.
 """
 
 from __future__ import annotations
@@ -27,9 +29,9 @@ from typing import Any
 import numpy as np
 from stable_baselines3.common.vec_env import VecEnv
 
-from agents.learned import MODELS_DIR, shipped_models
-from agents.learned.training.train import train
-from agents.learned.training.zoo_config import load_train_config
+from radial_ibvs_agents.learned import MODELS_DIR, shipped_models
+from radial_ibvs_agents.learned.training.train import train
+from radial_ibvs_agents.learned.training.zoo_config import load_train_config
 
 ROOT = Path(__file__).resolve().parents[1]
 #: the paper's IBVS success rate on the models' scenarios (2 cm / 2 deg; `radial-ibvs benchmark`:
@@ -123,7 +125,7 @@ def learner_ceiling_table(sizes: tuple[int, ...], rollouts: int) -> None:
     """Print PPO steps/s on the native vector env, DummyVecEnv and a no-op VecEnv."""
     from stable_baselines3.common.env_util import make_vec_env as sb3_make_vec_env
 
-    from agents import make_vec_env
+    from radial_ibvs_agents import make_vec_env
 
     config = load_train_config(ROOT / "configs" / "agents" / "ppo_parking.yaml")
     kwargs = dict(config.env_kwargs)

@@ -7,6 +7,7 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
+sys.path.insert(0, str(ROOT / "agents"))  # radial_ibvs_agents
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 from _env_pages import copy_notebooks, write_env_pages  # noqa: E402

@@ -36,17 +36,22 @@ MATHS = ("radial_ibvs_gym", "radial_ibvs_gym.config", "radial_ibvs_gym.geometry"
          "radial_ibvs_gym.camera", "radial_ibvs_gym.features")  # fmt: skip
 
 
-def _modules(package: str) -> dict[str, Path]:
+#: the policies' import name, and its folder (the repository's agents/)
+AGENTS = "radial_ibvs_agents"
+AGENTS_DIR = ROOT / "agents" / AGENTS
+
+
+def _modules(package: str, base: Path = ROOT) -> dict[str, Path]:
     out = {}
-    for path in sorted((ROOT / package).rglob("*.py")):
-        parts = list(path.relative_to(ROOT).with_suffix("").parts)
+    for path in sorted((base / package).rglob("*.py")):
+        parts = list(path.relative_to(base).with_suffix("").parts)
         if parts[-1] == "__init__":
             parts = parts[:-1]
         out[".".join(parts)] = path
     return out
 
 
-MODULES = {**_modules("radial_ibvs_gym"), **_modules("agents")}
+MODULES = {**_modules("radial_ibvs_gym"), **_modules(AGENTS, ROOT / "agents")}
 
 
 def _imports(path: Path, *, typing: bool = False) -> set[str]:
@@ -87,7 +92,7 @@ def test_each_layer_imports_only_lower_layers_and_its_allowed_libraries(layer: s
         for name in _imports(path):
             top = name.split(".")[0]
             assert top not in forbidden, f"{path.relative_to(ROOT)} imports {name}"
-            assert top != "agents", f"{path.relative_to(ROOT)} imports {name}"
+            assert top != AGENTS, f"{path.relative_to(ROOT)} imports {name}"
             if name.startswith("radial_ibvs_gym."):
                 sub = name.split(".")[1]
                 assert sub in allowed_layers, f"{path.relative_to(ROOT)} imports {name}"
@@ -96,7 +101,7 @@ def test_each_layer_imports_only_lower_layers_and_its_allowed_libraries(layer: s
 def test_no_module_of_the_env_package_imports_agents() -> None:
     for module, path in MODULES.items():
         if module.startswith("radial_ibvs_gym"):
-            bad = [n for n in _imports(path) if n.split(".")[0] == "agents"]
+            bad = [n for n in _imports(path) if n.split(".")[0] == AGENTS]
             assert not bad, f"{module} imports {bad}"
 
 
@@ -160,13 +165,13 @@ AGENT_ROOMS = ("utilities", "rollouts", "analytic", "learned", "policies", "expe
 #: the loose modules of ``agents``: the shared utilities, the rows of the rollouts (beside
 #: them), and on top of both kinds of policy, the registry of every policy by name
 AGENT_LOOSE = {
-    "agents.io": "utilities",
-    "agents.plotting": "utilities",
-    "agents.stats": "utilities",
-    "agents.untrusted": "utilities",
-    "agents": "policies",
-    "agents.registry": "policies",
-    "agents.rows": "rollouts",
+    "radial_ibvs_agents.io": "utilities",
+    "radial_ibvs_agents.plotting": "utilities",
+    "radial_ibvs_agents.stats": "utilities",
+    "radial_ibvs_agents.untrusted": "utilities",
+    AGENTS: "policies",
+    "radial_ibvs_agents.registry": "policies",
+    "radial_ibvs_agents.rows": "rollouts",
 }
 #: at most this many loose modules in ``agents/`` besides ``__init__.py``
 MAX_LOOSE = 6
@@ -182,46 +187,47 @@ def _room(module: str) -> str:
 
 
 def test_agents_has_few_loose_modules_and_every_module_has_a_room() -> None:
-    loose = sorted(p.stem for p in (ROOT / "agents").glob("*.py") if p.stem != "__init__")
+    loose = sorted(p.stem for p in AGENTS_DIR.glob("*.py") if p.stem != "__init__")
     assert len(loose) <= MAX_LOOSE, loose
     for module in MODULES:
-        if module.split(".")[0] == "agents":
+        if module.split(".")[0] == AGENTS:
             _room(module)
 
 
 @pytest.mark.parametrize("room", AGENT_ROOMS)
 def test_each_room_of_agents_imports_only_itself_and_lower_rooms(room: str) -> None:
     allowed = set(AGENT_ROOMS[: AGENT_ROOMS.index(room) + 1])
-    modules = [m for m in MODULES if m.split(".")[0] == "agents" and _room(m) == room]
+    modules = [m for m in MODULES if m.split(".")[0] == AGENTS and _room(m) == room]
     assert modules, f"no module found in room {room}"
     for module in modules:
         for name in _imports(MODULES[module]):
-            if name.split(".")[0] != "agents":
+            if name.split(".")[0] != AGENTS:
                 continue
             target = name if name in MODULES else name.rsplit(".", 1)[0]
             assert _room(target) in allowed, f"{module} ({room}) imports {name} ({_room(target)})"
 
 
-#: the groups of ``agents.learned``, lower first: a group imports only itself and lower ones
+#: the groups of ``radial_ibvs_agents.learned``, lower first: a group imports only itself and lower
+#: ones
 LEARNED_GROUPS = ("networks", "files", "training", "dagger")
 
 
 def test_the_groups_of_agents_learned_import_one_way() -> None:
-    found = {m.split(".")[2] for m in MODULES if m.startswith("agents.learned.")}
+    found = {m.split(".")[2] for m in MODULES if m.startswith("radial_ibvs_agents.learned.")}
     assert found == set(LEARNED_GROUPS), f"group {sorted(found ^ set(LEARNED_GROUPS))}"
     for module, path in MODULES.items():
-        if not module.startswith("agents.learned."):
+        if not module.startswith("radial_ibvs_agents.learned."):
             continue
         rank = LEARNED_GROUPS.index(module.split(".")[2])
         for name in _imports(path):
-            if name.startswith("agents.learned."):
+            if name.startswith("radial_ibvs_agents.learned."):
                 target = LEARNED_GROUPS.index(name.split(".")[2])
                 assert target <= rank, f"{module} imports {name}"
 
 
 def test_the_analytic_policies_import_no_learning_stack() -> None:
     for module, path in MODULES.items():
-        if module.startswith("agents.analytic"):
+        if module.startswith("radial_ibvs_agents.analytic"):
             bad = [n for n in _imports(path) if n.split(".")[0] in ("torch", "stable_baselines3")]
             assert not bad, f"{module} imports {bad}"
 
@@ -242,7 +248,7 @@ def test_importing_the_maths_loads_nothing_heavier_than_numpy(module: str) -> No
     assert _loaded_after(f"import {module}") == []
 
 
-@pytest.mark.parametrize("module", ["agents", "agents.analytic", "agents.learned"])
+@pytest.mark.parametrize("module", [AGENTS, f"{AGENTS}.analytic", f"{AGENTS}.learned"])
 def test_importing_the_policies_loads_no_torch(module: str) -> None:
     loaded = _loaded_after(f"import {module}")
     assert "torch" not in loaded and "stable_baselines3" not in loaded, loaded
@@ -298,6 +304,7 @@ def test_the_tests_mirror_the_packages() -> None:
         folder = path.parent.relative_to(tests).as_posix()
         if folder != ".":
             mirrored = folder in TEST_FOLDERS or (
-                folder.startswith("agents/") and (ROOT / folder / "__init__.py").is_file()
+                folder.startswith("agents/")
+                and (AGENTS_DIR / folder.removeprefix("agents/") / "__init__.py").is_file()
             )  # a subpackage of agents (tests/agents/learned/training: the tests that train)
             assert mirrored, f"{path.relative_to(ROOT)}: {folder} mirrors no package"

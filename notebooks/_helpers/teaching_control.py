@@ -13,8 +13,8 @@ The notebooks import and call these; they hold no library logic of their own. Fo
 - drawing on given matplotlib ``Axes`` (matplotlib itself is imported lazily, only by
   :func:`preserve_matplotlib_backend`): :func:`draw_pose` and the library's
   :func:`draw_convergence_map`. The paper's figures are the library's, drawn into the
-  notebook's axes: :func:`agents.experiments.figures.plot_paths` (Fig. 3-4) and
-  :func:`agents.experiments.figures.plot_servoing` (Fig. 6-8), both with ``axes=``.
+  notebook's axes: :func:`radial_ibvs_agents.experiments.figures.plot_paths` (Fig. 3-4) and
+  :func:`radial_ibvs_agents.experiments.figures.plot_servoing` (Fig. 6-8), both with ``axes=``.
 
 Conventions as everywhere in the package (``docs/conventions.md``): robot poses ``(x, y, yaw)``
 in the world frame, metres and radians, yaw counter-clockwise from the world x axis; the robot
@@ -36,10 +36,13 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
-from agents.analytic.ibvs_policy import IBVSPolicy
-from agents.experiments.benchmark_plots import draw_convergence_map, starts_in_goal_frame
-from agents.learned.training.zoo_config import TrainConfig
-from agents.rollouts import EpisodeLog, make_env, run_episode
+from radial_ibvs_agents.analytic.ibvs_policy import IBVSPolicy
+from radial_ibvs_agents.experiments.benchmark_plots import (
+    draw_convergence_map,
+    starts_in_goal_frame,
+)
+from radial_ibvs_agents.learned.training.zoo_config import TrainConfig
+from radial_ibvs_agents.rollouts import EpisodeLog, make_env, run_episode
 from radial_ibvs_gym._validation import as_float_array
 from radial_ibvs_gym.camera import radial_points
 from radial_ibvs_gym.geometry import relative_pose, world_to_camera
@@ -151,7 +154,7 @@ def ibvs_estimates(
     Parameters
     ----------
     policy
-        An :class:`~agents.analytic.ibvs_policy.IBVSPolicy` (variant ``paper`` or
+        An :class:`~radial_ibvs_agents.analytic.ibvs_policy.IBVSPolicy` (variant ``paper`` or
         ``no-frame-change``: the ones that need only the goal depths).
     landmarks
         ``(N, 3)`` landmark positions, world frame, metres.
@@ -204,7 +207,7 @@ def run_task(
     ----------
     policy
         Anything with stable-baselines3's ``predict`` and an ``env_kwargs`` mapping (every
-        policy of :mod:`agents`).
+        policy of :mod:`radial_ibvs_agents`).
     task
         Task index (``paper-sim``: 0..3, goal yaw 0, 90, 180, 270 deg); ``None`` lets the
         seed draw one.
@@ -228,7 +231,7 @@ def run_task(
     EpisodeLog
         The episode; ``extra["goal_depths"]`` holds the goal depths ``d*`` given to the
         policy (metres, scaled) when the env reports them, as
-        :func:`~agents.experiments.figures.servoing_signals` needs.
+        :func:`~radial_ibvs_agents.experiments.figures.servoing_signals` needs.
     """
     overrides = {"physics": physics, **({"task": task} if task is not None else {})}
     env = make_env(policy, scenario, {**overrides, **env_kwargs}, env_id=env_id)
@@ -297,7 +300,7 @@ def small_train_config(
     Parameters
     ----------
     config
-        The config (:func:`agents.learned.training.zoo_config.load_train_config`).
+        The config (:func:`radial_ibvs_agents.learned.training.zoo_config.load_train_config`).
     n_envs
         Parallel envs.
     n_steps

@@ -215,15 +215,14 @@ class ParkingGoalEnv(GoalReward, ParkingEnv):
     | ``achieved_goal`` | ``Box(-1, 1, (2M,))`` | current ``x_n``, flattened (zeros where hidden) |
     | ``desired_goal`` | ``Box(-1, 1, (2M,))`` | goal image ``x_n*``, flattened |
 
-    With ``goal_depths=True`` each goal also carries its depths, ``(3M,)``: ``desired_goal``
-    the goal depths ``d*`` after the goal image, ``achieved_goal`` the depths a goal image
-    taken at the current pose would come with (the visible landmarks' horizontal distances,
-    times the scenario's ``depth_scale``; 0 for the hidden ones), so a relabelled goal has
-    depths as a true one does; the reward reads the image points only. What a policy that
-    solves the goal's pose from the bearings needs
-    (``agents.learned.networks.extractors.GoalPoseExtractor``, which reads only the desired goal's
-    depths). Those current depths are ranges a camera alone does not measure: a policy that
-    reads all of ``achieved_goal`` (SB3's ``MultiInputPolicy`` does) is given them.
+    With ``goal_depths=True`` each goal also carries its depths, ``(3M,)``: ``desired_goal`` the
+    goal depths ``d*`` after the goal image, ``achieved_goal`` the depths a goal image taken at the
+    current pose would come with (the visible landmarks' horizontal distances, times the scenario's
+    ``depth_scale``; 0 for the hidden ones), so a relabelled goal has depths as a true one does; the
+    reward reads the image points only. What a policy that solves the goal's pose from the bearings
+    needs (``radial_ibvs_agents.learned.networks.extractors.GoalPoseExtractor``, which reads only
+    the desired goal's depths). Those current depths are ranges a camera alone does not measure: a
+    policy that reads all of ``achieved_goal`` (SB3's ``MultiInputPolicy`` does) is given them.
 
     **The step reward equals** ``compute_reward(achieved_goal, desired_goal, info)``, the
     ``GoalEnv`` rule that HER relies on (:func:`~radial_ibvs_gym.envs.rules.goal_reward_terms`).

@@ -10,8 +10,8 @@ from typing import Any
 
 import numpy as np
 
-from agents.experiments.suites import SUITES
-from agents.learned.networks.pose_layer import solve_goal_pose
+from radial_ibvs_agents.experiments.suites import SUITES
+from radial_ibvs_agents.learned.networks.pose_layer import solve_goal_pose
 
 __all__ = ["imperfect_cameras", "solve_one"]
 
@@ -19,8 +19,8 @@ __all__ = ["imperfect_cameras", "solve_one"]
 def solve_one(
     points: Any, visible: Any, goal_points: Any, goal_visible: Any, depths: Any
 ) -> tuple[np.ndarray, bool]:
-    """:func:`~agents.learned.networks.pose_layer.solve_goal_pose` for one image pair, numpy in and
-    out.
+    """:func:`~radial_ibvs_agents.learned.networks.pose_layer.solve_goal_pose` for one image pair,
+    numpy in and out.
 
     Parameters
     ----------

@@ -13,10 +13,10 @@ import argparse
 import itertools
 from collections import Counter
 
-from agents.analytic.filtered import FilteredPolicy
-from agents.analytic.ibvs_straight import StraightIBVSPolicy
-from agents.rollouts import make_env, run_episode
-from agents.rows import episode_row
+from radial_ibvs_agents.analytic.filtered import FilteredPolicy
+from radial_ibvs_agents.analytic.ibvs_straight import StraightIBVSPolicy
+from radial_ibvs_agents.rollouts import make_env, run_episode
+from radial_ibvs_agents.rows import episode_row
 
 CAMERA = {
     "mirror": "A",

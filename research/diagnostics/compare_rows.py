@@ -2,11 +2,11 @@
 
 Usage: ``python research/diagnostics/compare_rows.py BEFORE/episodes.json AFTER/episodes.json``.
 Rows are matched by (policy, suite, variant, seed); every field but the run's timing fields
-(``agents.rows.RUN_FIELDS``: ``compute_us_per_step``, ``compute_batch``) must be equal, bit for
-bit. Prints the number of rows compared and each difference; exits 1 if any.
+(``radial_ibvs_agents.rows.RUN_FIELDS``: ``compute_us_per_step``, ``compute_batch``) must be equal,
+bit for bit. Prints the number of rows compared and each difference; exits 1 if any.
 
 Used to check that a refactoring changes no episode (issue: the experiment layer's move to
-``agents.rollouts`` and ``agents.rows``).
+``radial_ibvs_agents.rollouts`` and ``radial_ibvs_agents.rows``).
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ import json
 import sys
 from pathlib import Path
 
-from agents.rows import RUN_FIELDS
+from radial_ibvs_agents.rows import RUN_FIELDS
 
 
 def _key(row: dict) -> tuple:

@@ -6,13 +6,13 @@ Usage::
         [--variants ideal "noise 1 px" ...] [--teacher-of configs/agents/CONFIG.yaml] \
         [--pose-noise 0.01]
 
-An image-based policy knows the goal only through the goal image, taken once per episode
-through the episode's camera. With pixel noise that image is one noisy draw, and the pose
-it shows is not quite the goal: the *image goal* is the pose whose noise-free image through
-the same camera matches the goal image best. Found here by a fixed point: from the true
-goal, solve the goal image's pose relative to the current noise-free image
-(:func:`agents.learned.networks.pose_layer.solve_one`, the student's first layer), move there, and
-repeat until the step is under a micrometre. A calibration error alone moves no goal (the
+An image-based policy knows the goal only through the goal image, taken once per episode through the
+episode's camera. With pixel noise that image is one noisy draw, and the pose it shows is not quite
+the goal: the *image goal* is the pose whose noise-free image through the same camera matches the
+goal image best. Found here by a fixed point: from the true goal, solve the goal image's pose
+relative to the current noise-free image
+(:func:`radial_ibvs_agents.learned.networks.pose_layer.solve_one`, the student's first layer), move
+there, and repeat until the step is under a micrometre. A calibration error alone moves no goal (the
 goal image goes through the same camera, so the error cancels there); noise does.
 
 For the ``imperfect`` suite's variants (``ideal``: the same rooms through the ideal camera),
@@ -40,10 +40,10 @@ import gymnasium as gym
 import numpy as np
 from _common import imperfect_cameras, solve_one  # research/diagnostics/_common.py
 
-from agents.analytic import make_analytic
-from agents.experiments.suites import HELD_OUT_SEED
-from agents.learned.dagger.distill_config import PRIVILEGED, load_dagger_config
-from agents.rollouts import run_episode
+from radial_ibvs_agents.analytic import make_analytic
+from radial_ibvs_agents.experiments.suites import HELD_OUT_SEED
+from radial_ibvs_agents.learned.dagger.distill_config import PRIVILEGED, load_dagger_config
+from radial_ibvs_agents.rollouts import run_episode
 from radial_ibvs_gym.geometry import relative_pose
 
 

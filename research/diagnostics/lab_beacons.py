@@ -17,7 +17,7 @@ from __future__ import annotations
 
 import argparse
 
-from agents.experiments.evaluate import evaluate
+from radial_ibvs_agents.experiments.evaluate import evaluate
 from radial_ibvs_gym.scenarios import load_scenario
 
 

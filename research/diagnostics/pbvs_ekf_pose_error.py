@@ -4,11 +4,11 @@ Usage::
 
     python research/diagnostics/pbvs_ekf_pose_error.py [--episodes 20] [--noise 1.0]
 
-Drives ``pbvs-ekf`` in held-out random rooms (seeds from 100,000, kinematic) through a camera
-with ``--noise`` pixels of noise and, at every frame, compares with the true goal pose in the
-robot's frame (the privileged observation, read only here): the pose the image alone gives
-(:func:`agents.analytic.pbvs.solve_goal_pose`) and the filter's after its update with that
-frame. Prints the median position errors (centimetres) and the number of frames.
+Drives ``pbvs-ekf`` in held-out random rooms (seeds from 100,000, kinematic) through a camera with
+``--noise`` pixels of noise and, at every frame, compares with the true goal pose in the robot's
+frame (the privileged observation, read only here): the pose the image alone gives
+(:func:`radial_ibvs_agents.analytic.pbvs.solve_goal_pose`) and the filter's after its update with
+that frame. Prints the median position errors (centimetres) and the number of frames.
 """
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ import gymnasium as gym
 import numpy as np
 
 import radial_ibvs_gym  # noqa: F401  (registers the envs)
-from agents import make_policy
+from radial_ibvs_agents import make_policy
 from radial_ibvs_gym.geometry import pose_in_frame
 
 

@@ -4,8 +4,8 @@ Usage::
 
     python research/diagnostics/pose_layer_errors.py [--episodes 40] [--seed 100000]
 
-:func:`agents.learned.networks.pose_layer.solve_goal_pose` solves the goal's planar pose from the
-bearings of one image against the goal image. For held-out rooms (the ``imperfect`` suite's
+:func:`radial_ibvs_agents.learned.networks.pose_layer.solve_goal_pose` solves the goal's planar pose
+from the bearings of one image against the goal image. For held-out rooms (the ``imperfect`` suite's
 seeds and cameras) this script prints
 
 - through the calibration error (principal point (2, -1) px, focal ratio +1 %): how far the
@@ -29,9 +29,9 @@ import torch
 from _common import solve_one  # research/diagnostics/_common.py
 
 import radial_ibvs_gym  # noqa: F401  (registers the envs)
-from agents.analytic import make_analytic
-from agents.experiments.suites import HELD_OUT_SEED
-from agents.learned.dagger.distill import goal_in_robot_frame
+from radial_ibvs_agents.analytic import make_analytic
+from radial_ibvs_agents.experiments.suites import HELD_OUT_SEED
+from radial_ibvs_agents.learned.dagger.distill import goal_in_robot_frame
 
 ENV = {"scenario": "random", "physics": "kinematic", "obs_mode": "features", "goal_depths": True}
 CAMERA = {"mirror": "A", "non_central_offset": 0.01}

@@ -24,10 +24,10 @@ from typing import Any
 
 import numpy as np
 
-from agents import make_policy
-from agents.experiments.suites import SUITES
-from agents.rollouts import make_env
-from agents.rows import JUDGING
+from radial_ibvs_agents import make_policy
+from radial_ibvs_agents.experiments.suites import SUITES
+from radial_ibvs_agents.rollouts import make_env
+from radial_ibvs_agents.rows import JUDGING
 
 
 def _variant(name: str) -> Any:

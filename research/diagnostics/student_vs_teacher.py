@@ -26,12 +26,12 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 
-from agents import load
-from agents.analytic import make_analytic
-from agents.analytic.docking import goal_frame, in_docking_cone
-from agents.learned.dagger.distill_config import PRIVILEGED
-from agents.learned.training.sb3_vec_env import make_vec_env
-from agents.rollouts import run_episode
+from radial_ibvs_agents import load
+from radial_ibvs_agents.analytic import make_analytic
+from radial_ibvs_agents.analytic.docking import goal_frame, in_docking_cone
+from radial_ibvs_agents.learned.dagger.distill_config import PRIVILEGED
+from radial_ibvs_agents.learned.training.sb3_vec_env import make_vec_env
+from radial_ibvs_agents.rollouts import run_episode
 
 BANDS = (0.0, 0.05, 0.15, 0.3, 0.6, 1.2, 2.5, np.inf)
 

@@ -27,10 +27,10 @@ from pathlib import Path
 import gymnasium as gym
 import numpy as np
 
-from agents.analytic import make_analytic
-from agents.learned.dagger.distill_config import PRIVILEGED, load_dagger_config
-from agents.learned.training.sb3_vec_env import make_vec_env
-from agents.rollouts import run_episode
+from radial_ibvs_agents.analytic import make_analytic
+from radial_ibvs_agents.learned.dagger.distill_config import PRIVILEGED, load_dagger_config
+from radial_ibvs_agents.learned.training.sb3_vec_env import make_vec_env
+from radial_ibvs_agents.rollouts import run_episode
 
 BURST = 10  # steps of a random command
 

@@ -7,19 +7,17 @@ Usage::
         [--variants ideal "noise 1 px" ...] [--teacher-kwargs '{"line_lateral_gain": 225}']
 
 A student with the ``landmark_pose`` extractor sees the goal's pose solved from the landmarks'
-bearings (:func:`agents.learned.networks.pose_layer.solve_goal_pose`), and it learns its teacher's
-law
-on the true pose. This runs that teacher (the config's ``teacher`` and ``teacher_kwargs``,
-with ``--teacher-kwargs`` on top) on the solved pose instead of the true one: the robot's
-pose it is handed is the goal's pose composed with the solved relative pose. The map and the
-goal's pose stay privileged (its path far from the goal); near the goal, where the episodes
-are decided, it sees what the student sees, exactly, through the camera's imperfections. It
-runs the ``imperfect`` suite's variants (``ideal``: the same rooms through the ideal camera)
-on the suite's held-out seeds and prints how many park (2 cm / 2 deg) and where the
-failures stopped. A memoryless student of the teacher inherits those failures, so this is a
-ceiling of sorts: what distilling that law can reach through that camera.
-``research/diagnostics/pose_layer_errors.py`` shows how far the solved pose is off through the same
-cameras.
+bearings (:func:`radial_ibvs_agents.learned.networks.pose_layer.solve_goal_pose`), and it learns its
+teacher's law on the true pose. This runs that teacher (the config's ``teacher`` and
+``teacher_kwargs``, with ``--teacher-kwargs`` on top) on the solved pose instead of the true one:
+the robot's pose it is handed is the goal's pose composed with the solved relative pose. The map and
+the goal's pose stay privileged (its path far from the goal); near the goal, where the episodes are
+decided, it sees what the student sees, exactly, through the camera's imperfections. It runs the
+``imperfect`` suite's variants (``ideal``: the same rooms through the ideal camera) on the suite's
+held-out seeds and prints how many park (2 cm / 2 deg) and where the failures stopped. A memoryless
+student of the teacher inherits those failures, so this is a ceiling of sorts: what distilling that
+law can reach through that camera. ``research/diagnostics/pose_layer_errors.py`` shows how far the
+solved pose is off through the same cameras.
 """
 
 from __future__ import annotations
@@ -34,10 +32,10 @@ import gymnasium as gym
 import numpy as np
 from _common import imperfect_cameras, solve_one  # research/diagnostics/_common.py
 
-from agents.analytic import make_analytic
-from agents.experiments.suites import HELD_OUT_SEED
-from agents.learned.dagger.distill_config import PRIVILEGED, load_dagger_config
-from agents.rollouts import run_episode
+from radial_ibvs_agents.analytic import make_analytic
+from radial_ibvs_agents.experiments.suites import HELD_OUT_SEED
+from radial_ibvs_agents.learned.dagger.distill_config import PRIVILEGED, load_dagger_config
+from radial_ibvs_agents.rollouts import run_episode
 
 
 def solved_robot_pose(obs: dict[str, Any]) -> np.ndarray | None:

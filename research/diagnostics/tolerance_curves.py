@@ -16,8 +16,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from agents.learned.training.tolerance_eval import read_tolerance_curve
-from agents.plotting import pyplot, save_figure
+from radial_ibvs_agents.learned.training.tolerance_eval import read_tolerance_curve
+from radial_ibvs_agents.plotting import pyplot, save_figure
 from radial_ibvs_gym.envs.rules import SUCCESS_TOLERANCES
 
 COLOURS = {"2cm/2deg": "C3", "10cm/5deg": "C1", "30cm/15deg": "C2"}

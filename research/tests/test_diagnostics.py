@@ -11,7 +11,7 @@ import gymnasium as gym
 import numpy as np
 import pytest
 
-from agents.experiments.suites import SUITES
+from radial_ibvs_agents.experiments.suites import SUITES
 
 DIAGNOSTICS = Path(__file__).resolve().parents[1] / "diagnostics"
 sys.path.insert(0, str(DIAGNOSTICS))  # the scripts import their shared _common, as they run

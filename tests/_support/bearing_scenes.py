@@ -1,8 +1,8 @@
 """Random scenes of landmark bearings, seen from the goal and from a robot (the pose tests).
 
-Shared by the tests of the pose layer (``agents.learned.networks.pose_layer``) and of position-based
-servoing (``agents.analytic.pbvs``), which solve the same scenes. ``conftest.py`` puts this
-folder on the path, last (so nothing shadows an installed module).
+Shared by the tests of the pose layer (``radial_ibvs_agents.learned.networks.pose_layer``) and of
+position-based servoing (``radial_ibvs_agents.analytic.pbvs``), which solve the same scenes.
+``conftest.py`` puts this folder on the path, last (so nothing shadows an installed module).
 """
 
 from __future__ import annotations

@@ -1,5 +1,6 @@
-"""The small DAgger run the tests share (``agents.learned.dagger.distill``): its env and its config,
-and the PPO config that fine-tunes a student (``agents.learned.training.fine_tune``)."""
+"""The small DAgger run the tests share (``radial_ibvs_agents.learned.dagger.distill``): its env and
+its config, and the PPO config that fine-tunes a student
+(``radial_ibvs_agents.learned.training.fine_tune``)."""
 
 from __future__ import annotations
 
@@ -29,7 +30,7 @@ dagger:
 
 
 def fine_tune_config(tmp_path: Path, extra: str) -> object:
-    from agents.learned.training.zoo_config import load_train_config
+    from radial_ibvs_agents.learned.training.zoo_config import load_train_config
 
     path = tmp_path / "ppo.yaml"
     path.write_text(

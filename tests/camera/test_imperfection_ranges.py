@@ -42,9 +42,9 @@ def test_a_draw_lies_in_its_ranges_around_the_fixed_imperfections(
 
 
 def test_each_reset_draws_a_camera_reported_in_info_and_rows() -> None:
-    from agents import make_policy
-    from agents.rollouts import make_env, run_episode
-    from agents.rows import episode_row
+    from radial_ibvs_agents import make_policy
+    from radial_ibvs_agents.rollouts import make_env, run_episode
+    from radial_ibvs_agents.rows import episode_row
 
     camera = {**MIRROR, "imperfection_ranges": RANGES}
     env = gym.make("RadialIBVS/Parking-v0", camera=camera, **KW)

@@ -63,7 +63,7 @@ def test_readme_python_snippets_run(tmp_path: Path, monkeypatch: pytest.MonkeyPa
 
 def _report_on_the_readme_model(readme: str) -> None:
     """Run "Train your own"'s two commands on the saved model (2 episodes, one suite)."""
-    from agents.cli import main
+    from radial_ibvs_agents.cli import main
 
     section = readme.split("## Train your own", 1)[1].split("\n## ", 1)[0]
     block = re.findall(r"```bash\n(.*?)```", section, flags=re.S)[0]

@@ -484,8 +484,8 @@ def test_max_landmarks_below_the_scene_is_a_clear_error() -> None:
 
 
 def test_the_ibvs_parks_with_padded_observations() -> None:
-    from agents import IBVSPolicy
-    from agents.rollouts import make_env, run_episode
+    from radial_ibvs_agents import IBVSPolicy
+    from radial_ibvs_agents.rollouts import make_env, run_episode
 
     policy = IBVSPolicy()
     env = make_env(policy, "paper-sim", {"task": 1, "physics": "kinematic", "max_landmarks": 16})

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 import radial_ibvs_gym  # noqa: F401  (registers the envs)
-from agents.learned.training.sb3_vec_env import make_vec_env
+from radial_ibvs_agents.learned.training.sb3_vec_env import make_vec_env
 from radial_ibvs_gym.envs.rules import reward_terms_in
 
 KW = {"scenario": "random", "physics": "kinematic"}
@@ -220,7 +220,7 @@ def test_achieved_depths_are_those_of_the_landmarks_seen():
 
 def test_the_runners_read_goals_with_depths():
     """``run_episode`` and the batched runner take goals of ``3M`` values (points, then depths)."""
-    from agents.rollouts import run_episode, run_episodes
+    from radial_ibvs_agents.rollouts import run_episode, run_episodes
 
     kw = {**KW, "max_landmarks": 16}
     logs = {}
@@ -242,8 +242,11 @@ def test_the_goal_pose_extractor_solves_the_students_pose_from_the_goals():
     torch = pytest.importorskip("torch")
     from gymnasium import spaces
 
-    from agents.learned.networks.extractors import GoalPoseExtractor, LandmarkPoseExtractor
-    from agents.learned.networks.pose_layer import POSE_FEATURES
+    from radial_ibvs_agents.learned.networks.extractors import (
+        GoalPoseExtractor,
+        LandmarkPoseExtractor,
+    )
+    from radial_ibvs_agents.learned.networks.pose_layer import POSE_FEATURES
 
     kw = {**KW, "max_landmarks": 16, "goal_depths": True}
     goal_env = gym.make("RadialIBVS/ParkingGoal-v1", **kw)

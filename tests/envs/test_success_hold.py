@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import radial_ibvs_gym  # noqa: F401  (registers the ids)
-from agents import make_policy
+from radial_ibvs_agents import make_policy
 
 
 def test_success_hold_steps_needs_the_pose_held_a_pass_does_not_count() -> None:

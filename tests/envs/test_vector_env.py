@@ -320,7 +320,7 @@ def test_fuzz_ten_thousand_random_episodes_raise_nothing_and_give_no_nan() -> No
 def test_make_vec_env_follows_sb3_semantics_like_dummy_vec_env() -> None:
     from stable_baselines3.common.env_util import make_vec_env as sb3_make_vec_env
 
-    from agents import make_vec_env
+    from radial_ibvs_agents import make_vec_env
 
     kwargs = {"physics": "kinematic", "scenario": "random", "max_episode_steps": 40}
     ours = make_vec_env("RadialIBVS/Parking-v0", 3, seed=5, monitor=False, **kwargs)
@@ -347,7 +347,7 @@ def test_make_vec_env_trains_ppo_under_vec_normalize() -> None:
     from stable_baselines3 import PPO
     from stable_baselines3.common.vec_env import VecNormalize
 
-    from agents import make_vec_env
+    from radial_ibvs_agents import make_vec_env
 
     venv = VecNormalize(make_vec_env("RadialIBVS/Parking-v0", 8, seed=0, physics="kinematic"))
     model = PPO(
@@ -368,7 +368,7 @@ def test_make_vec_env_trains_ppo_under_vec_normalize() -> None:
 
 
 def test_make_vec_env_applies_one_set_of_reset_options_and_refuses_per_env_ones() -> None:
-    from agents import make_vec_env
+    from radial_ibvs_agents import make_vec_env
 
     venv = make_vec_env("RadialIBVS/Parking-v0", 2, seed=0, monitor=False, physics="kinematic")
     venv.set_options({"task": 2})

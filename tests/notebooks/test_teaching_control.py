@@ -13,8 +13,8 @@ import pytest
 from _helpers import teaching_control as tc
 
 import radial_ibvs_gym  # noqa: F401
-from agents import IBVSPolicy, make_policy
-from agents.learned.training.zoo_config import load_train_config
+from radial_ibvs_agents import IBVSPolicy, make_policy
+from radial_ibvs_agents.learned.training.zoo_config import load_train_config
 from radial_ibvs_gym import paper
 
 CONFIG = Path(__file__).resolve().parents[2] / "configs" / "agents" / "ppo_parking.yaml"
@@ -173,8 +173,8 @@ def test_preserve_matplotlib_backend() -> None:
 def test_the_library_figures_draw_into_the_notebooks_axes(tmp_path: Path) -> None:
     """The notebooks draw Fig. 3-4 and 6-8 with the library's functions (``axes=``): no figure
     of their own, nothing saved unless asked; the default still makes and saves one."""
-    from agents.experiments.figures import plot_paths, plot_servoing
-    from agents.experiments.reproduce import reproduce
+    from radial_ibvs_agents.experiments.figures import plot_paths, plot_servoing
+    from radial_ibvs_agents.experiments.reproduce import reproduce
 
     logs = reproduce(physics=("kinematic",), tasks=[1], progress=False)
     ibvs = next(log for log in logs if log.policy == "ibvs")

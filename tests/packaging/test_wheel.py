@@ -35,12 +35,15 @@ def test_the_sdist_and_wheel_pass_the_release_checks(dist: Path) -> None:
     names = zipfile.ZipFile(wheel).namelist()
     for expected in (
         "radial_ibvs_gym/_configs/scenarios/paper-sim.yaml",
-        "agents/learned/models/ppo-residual/policy.safetensors",
-        "agents/learned/models/ppo-residual/policy.json",
+        "radial_ibvs_agents/learned/models/ppo-residual/policy.safetensors",
+        "radial_ibvs_agents/learned/models/ppo-residual/policy.json",
         "radial_ibvs_gym/py.typed",
     ):
         assert expected in names, expected
     assert any(n.endswith("licenses/LICENSE") for n in names)
+    # two import names, both the project's own: nothing generic at the top of site-packages
+    tops = {n.split("/")[0] for n in names if ".dist-info/" not in n}
+    assert tops == {"radial_ibvs_gym", "radial_ibvs_agents"}, tops
 
 
 @pytest.mark.slow

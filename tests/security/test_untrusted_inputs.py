@@ -27,11 +27,16 @@ import pytest
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
-from agents import load, make_policy
-from agents.cli import main
-from agents.learned import MODELS_DIR
-from agents.learned.files.model_files import DESCRIPTION, WEIGHTS, load_policy, read_normalization
-from agents.untrusted import MAX_ARCHIVE_MEMBER_BYTES, UntrustedFileError, check_archive
+from radial_ibvs_agents import load, make_policy
+from radial_ibvs_agents.cli import main
+from radial_ibvs_agents.learned import MODELS_DIR
+from radial_ibvs_agents.learned.files.model_files import (
+    DESCRIPTION,
+    WEIGHTS,
+    load_policy,
+    read_normalization,
+)
+from radial_ibvs_agents.untrusted import MAX_ARCHIVE_MEMBER_BYTES, UntrustedFileError, check_archive
 from radial_ibvs_gym.registration import UnknownEnvIdError, check_env_id
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -115,7 +120,7 @@ def test_only_the_package_ids_pass(env_id: object) -> None:
 
 
 def test_a_training_config_section_name_never_imports_a_module(tmp_path: Path) -> None:
-    from agents.learned.training.zoo_config import load_train_config
+    from radial_ibvs_agents.learned.training.zoo_config import load_train_config
 
     text = (ROOT / "configs" / "agents" / "ppo_parking.yaml").read_text()
     config = tmp_path / "evil.yaml"
@@ -225,7 +230,7 @@ def _bomb_model(tmp_path: Path) -> Path:
 
 def test_the_memory_cap_lets_a_model_load_and_stops_a_real_bomb(tmp_path: Path) -> None:
     """The cap is tight enough to matter: an honest load passes, a 16 GiB network does not."""
-    result = _under_memory_cap(f"from agents import load; load({SHIPPED!r})", tmp_path)
+    result = _under_memory_cap(f"from radial_ibvs_agents import load; load({SHIPPED!r})", tmp_path)
     assert "ACCEPTED" in result.stdout, result.stderr[-3000:]
     result = _under_memory_cap("import torch; torch.nn.Linear(65536, 65536)", tmp_path)
     assert "MemoryError" in result.stderr or "DefaultCPUAllocator" in result.stderr
@@ -245,7 +250,7 @@ def test_a_network_larger_than_its_weights_is_refused_before_it_is_built(
     described = json.loads((model / DESCRIPTION).read_text())
     described["policy_kwargs"] = {**described["policy_kwargs"], **change}
     (model / DESCRIPTION).write_text(json.dumps(described))  # the weights' SHA-256 still holds
-    code = f"from agents import load; load({str(model)!r})"
+    code = f"from radial_ibvs_agents import load; load({str(model)!r})"
     _refused(_under_memory_cap(code, tmp_path), named, "policy.json")
 
 
@@ -254,7 +259,10 @@ def test_a_huge_action_space_is_refused_before_it_is_built(tmp_path: Path) -> No
     described = json.loads((model / DESCRIPTION).read_text())
     described["action_space"] = {"type": "Discrete", "n": 10**11, "start": 0}
     (model / DESCRIPTION).write_text(json.dumps(described))
-    code = f"from agents.learned.files.model_files import load_policy; load_policy({str(model)!r})"
+    code = (
+        "from radial_ibvs_agents.learned.files.model_files import load_policy; "
+        f"load_policy({str(model)!r})"
+    )
     _refused(_under_memory_cap(code, tmp_path), "MAX_SPACE_ELEMENTS")
 
 
@@ -271,12 +279,12 @@ def test_a_normalization_member_that_inflates_past_the_cap_is_refused(tmp_path: 
     model = _bomb_model(tmp_path)
     _zip_bomb(model / "normalization.npz", "mean/observation.npy", 4 << 30)
     assert (model / "normalization.npz").stat().st_size < 32 << 20  # small on disk
-    code = f"from agents import load; load({str(model)!r})"
+    code = f"from radial_ibvs_agents import load; load({str(model)!r})"
     _refused(_under_memory_cap(code, tmp_path), "normalization.npz", "MAX_ARCHIVE_MEMBER_BYTES")
 
 
 def test_a_model_zip_member_that_inflates_past_the_cap_is_refused(tmp_path: Path) -> None:
-    from agents.learned.training.train import _resume
+    from radial_ibvs_agents.learned.training.train import _resume
 
     source = tmp_path / "source"
     source.mkdir()
@@ -294,7 +302,7 @@ def test_a_sparse_64_gib_file_is_refused_without_being_read(name: str, tmp_path:
     model = _bomb_model(tmp_path)
     with open(model / name, "r+b") as handle:
         handle.truncate(64 << 30)  # sparse: no disk used, 64 GiB to a whole-file read
-    code = f"from agents import load; load({str(model)!r})"
+    code = f"from radial_ibvs_agents import load; load({str(model)!r})"
     _refused(_under_memory_cap(code, tmp_path), name, "MAX_")
 
 
@@ -392,7 +400,7 @@ def test_training_hyper_parameters_are_checked_before_sb3(
 ) -> None:
     import yaml
 
-    from agents.learned.training.zoo_config import load_train_config
+    from radial_ibvs_agents.learned.training.zoo_config import load_train_config
 
     source = ROOT / "configs" / "agents" / "ppo_parking.yaml"
     data = yaml.safe_load(source.read_text())
@@ -406,7 +414,7 @@ def test_training_hyper_parameters_are_checked_before_sb3(
 def test_whole_float_hyper_parameters_become_integers(tmp_path: Path) -> None:
     import yaml
 
-    from agents.learned.training.zoo_config import load_train_config
+    from radial_ibvs_agents.learned.training.zoo_config import load_train_config
 
     source = ROOT / "configs" / "agents" / "ppo_parking.yaml"
     data = yaml.safe_load(source.read_text())
@@ -425,7 +433,7 @@ def test_scratch_folders_of_dead_workers_are_removed(
 ) -> None:
     import tempfile
 
-    from agents.experiments import sweep
+    from radial_ibvs_agents.experiments import sweep
 
     monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
     dead = subprocess.run(
@@ -532,7 +540,7 @@ def test_any_bytes_as_a_model_file_are_a_value_error(text: bytes, tmp_path: Path
 @pytest.fixture(scope="module")
 def chunk_store(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, object]:
     """A benchmark store holding one real chunk: its file and its job's result."""
-    from agents.experiments import benchmark
+    from radial_ibvs_agents.experiments import benchmark
 
     out = tmp_path_factory.mktemp("store")
     with pytest.MonkeyPatch.context() as patch:
@@ -550,7 +558,7 @@ def chunk_store(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, object]
 def test_a_damaged_chunk_is_run_again_never_used(
     key: str, value: object, chunk_store: tuple[Path, object]
 ) -> None:
-    from agents.experiments.store import ChunkStore
+    from radial_ibvs_agents.experiments.store import ChunkStore
 
     folder, result = chunk_store
     store = ChunkStore(folder)
@@ -621,7 +629,7 @@ def test_a_full_disk_is_named_with_the_path(
 ) -> None:
     import errno
 
-    from agents.experiments import store
+    from radial_ibvs_agents.experiments import store
 
     def full(path: Path, _data: object) -> Path:
         raise OSError(errno.ENOSPC, os.strerror(errno.ENOSPC), str(path))
@@ -639,7 +647,7 @@ def test_a_killed_worker_ends_with_the_resume_hint(
 ) -> None:
     from concurrent.futures.process import BrokenProcessPool
 
-    from agents.cli import benchmark as benchmark_cli
+    from radial_ibvs_agents.cli import benchmark as benchmark_cli
 
     def die(_args: object) -> int:
         raise BrokenProcessPool("a child process terminated abruptly")

@@ -248,7 +248,7 @@ def _angle_between(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def test_detected_points_are_the_ideal_ones_with_the_right_identities() -> None:
-    from agents import make_policy
+    from radial_ibvs_agents import make_policy
 
     env = _detected_env()
     policy = make_policy("ibvs")
@@ -273,7 +273,7 @@ def test_detected_points_are_the_ideal_ones_with_the_right_identities() -> None:
 @pytest.mark.slow
 @pytest.mark.parametrize("seed", [0, 1])
 def test_the_papers_ibvs_parks_from_pixels_in_paper_lab(seed: int) -> None:
-    from agents import make_policy
+    from radial_ibvs_agents import make_policy
 
     env = _detected_env(success_position_m=0.02, success_heading_deg=2.0)
     policy = make_policy("ibvs")
@@ -302,7 +302,7 @@ def test_detected_mode_is_deterministic_under_the_seed() -> None:
 
 
 def test_frames_without_beacons_give_a_status_then_the_episode_ends_lost() -> None:
-    from agents import make_policy
+    from radial_ibvs_agents import make_policy
 
     env = _detected_env()
     policy = make_policy("ibvs")
@@ -337,8 +337,8 @@ def test_bad_detected_mode_arguments_are_rejected() -> None:
 
 
 def test_the_image_command_draws_the_measurement(tmp_path) -> None:
-    from agents.cli import main
-    from agents.experiments.pixels import detection_accuracy
+    from radial_ibvs_agents.cli import main
+    from radial_ibvs_agents.experiments.pixels import detection_accuracy
 
     out = tmp_path / "pixels.png"
     assert main(["image", "--scenario", "paper-lab", "--seed", "1", "--out", str(out)]) == 0
@@ -355,7 +355,7 @@ def test_a_goal_image_without_a_mirror_border_is_a_clear_error_at_reset() -> Non
 
 
 def test_a_goal_image_from_another_mirror_gets_its_own_calibration_and_the_ibvs_parks() -> None:
-    from agents import make_policy
+    from radial_ibvs_agents import make_policy
 
     # mirror B, its principal point 8 px off: its own border fit must calibrate the goal image
     goal_camera = {

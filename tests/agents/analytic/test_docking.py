@@ -8,7 +8,12 @@ import numpy as np
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from agents.analytic.docking import goal_frame, in_docking_cone, line_docking, turn_in_place
+from radial_ibvs_agents.analytic.docking import (
+    goal_frame,
+    in_docking_cone,
+    line_docking,
+    turn_in_place,
+)
 from radial_ibvs_gym.physics import RobotConfig
 
 ROBOT = RobotConfig()

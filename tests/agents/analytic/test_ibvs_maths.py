@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from agents.analytic.ibvs_maths import GoalModel, ibvs_twist
+from radial_ibvs_agents.analytic.ibvs_maths import GoalModel, ibvs_twist
 from radial_ibvs_gym import paper
 from radial_ibvs_gym.camera import radial_points
 from radial_ibvs_gym.geometry import world_to_camera

@@ -1,12 +1,13 @@
-"""The batched IBVS (agents.analytic.ibvs_maths_batch) against the one-robot-at-a-time policy."""
+"""The batched IBVS (radial_ibvs_agents.analytic.ibvs_maths_batch) against the one-robot-at-a-time
+policy."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from agents.analytic.ibvs_policy import IBVSPolicy
-from agents.learned.training.sb3_vec_env import make_vec_env
+from radial_ibvs_agents.analytic.ibvs_policy import IBVSPolicy
+from radial_ibvs_agents.learned.training.sb3_vec_env import make_vec_env
 
 
 def _observations(n_envs: int = 32, steps: int = 60, seed: int = 3) -> list[dict[str, np.ndarray]]:
@@ -68,7 +69,7 @@ def test_goal_cache_gives_the_uncached_result_exactly(batches):
     """The per-episode goal terms change nothing: the same bits as computing them every step."""
     from dataclasses import fields
 
-    from agents.analytic.ibvs_maths_batch import GoalCache, GoalTerms, ibvs_twist_batch
+    from radial_ibvs_agents.analytic.ibvs_maths_batch import GoalCache, GoalTerms, ibvs_twist_batch
 
     cache = GoalCache()
     rng = np.random.default_rng(0)
@@ -91,7 +92,7 @@ def test_goal_cache_gives_the_uncached_result_exactly(batches):
 
 
 def test_goal_cache_recomputes_a_changed_goal_only(batches):
-    from agents.analytic.ibvs_maths_batch import GoalCache, GoalTerms
+    from radial_ibvs_agents.analytic.ibvs_maths_batch import GoalCache, GoalTerms
 
     obs = batches[0]
     cache = GoalCache()

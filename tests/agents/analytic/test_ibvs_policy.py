@@ -11,7 +11,7 @@ from stable_baselines3.common.env_util import make_vec_env
 from stable_baselines3.common.evaluation import evaluate_policy
 
 import radial_ibvs_gym  # noqa: F401
-from agents import POLICY_NAMES, IBVSPolicy, PoseOracle, RandomPolicy, make_policy
+from radial_ibvs_agents import POLICY_NAMES, IBVSPolicy, PoseOracle, RandomPolicy, make_policy
 
 TIGHT = {"success_position_m": 0.01, "success_heading_deg": 0.5}
 

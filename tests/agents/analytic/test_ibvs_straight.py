@@ -11,8 +11,8 @@ from hypothesis import given
 from hypothesis import strategies as st
 
 import radial_ibvs_gym  # noqa: F401
-from agents import make_policy
-from agents.analytic.ibvs_straight import StraightIBVSPolicy, straight_command
+from radial_ibvs_agents import make_policy
+from radial_ibvs_agents.analytic.ibvs_straight import StraightIBVSPolicy, straight_command
 
 LIMITS = dict(lam=0.5, v_max=1.2, omega_max=5.2, stop_radius=0.002, stop_heading=0.002)
 LAW = dict(**LIMITS, rotate_radius=0.02, align_tolerance=math.radians(5), turn_gain=2.0)

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 import radial_ibvs_gym  # noqa: F401  (registers the ids)
-from agents import make_policy
-from agents.experiments import jobs
-from agents.experiments.suites import SUITES
+from radial_ibvs_agents import make_policy
+from radial_ibvs_agents.experiments import jobs
+from radial_ibvs_agents.experiments.suites import SUITES
 from radial_ibvs_gym.geometry.bearing_pose import solve_goal_pose
 
 NOISY = {

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import radial_ibvs_gym  # noqa: F401
-from agents.analytic.smooth_control import SmoothControlLaw, ego_polar
+from radial_ibvs_agents.analytic.smooth_control import SmoothControlLaw, ego_polar
 
 
 @pytest.mark.parametrize("physics", ["kinematic", "pymunk"])

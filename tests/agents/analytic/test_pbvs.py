@@ -11,11 +11,11 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import radial_ibvs_gym  # noqa: F401  (registers the envs)
-from agents import make_policy
-from agents.analytic.pbvs import PBVSPolicy, solve_goal_pose
-from agents.analytic.pose_oracle import PoseOracle
-from agents.learned.networks import pose_layer
-from agents.rollouts import make_env, run_episode
+from radial_ibvs_agents import make_policy
+from radial_ibvs_agents.analytic.pbvs import PBVSPolicy, solve_goal_pose
+from radial_ibvs_agents.analytic.pose_oracle import PoseOracle
+from radial_ibvs_agents.learned.networks import pose_layer
+from radial_ibvs_agents.rollouts import make_env, run_episode
 from radial_ibvs_gym.geometry import pose_in_frame
 
 finite = st.floats(-3.0, 3.0, allow_nan=False)
@@ -87,7 +87,7 @@ def test_too_few_landmarks_give_a_zero_command_and_missing_depths_are_named() ->
 
 
 def test_the_filter_on_noise_free_images_acts_as_pbvs_and_parks() -> None:
-    from agents.analytic.pbvs_ekf import PBVSEKFPolicy
+    from radial_ibvs_agents.analytic.pbvs_ekf import PBVSEKFPolicy
 
     ekf, pbvs = PBVSEKFPolicy(), PBVSPolicy()
     env = make_env(ekf, "paper-sim", {"physics": "kinematic"})
@@ -105,7 +105,7 @@ def test_the_filter_on_noise_free_images_acts_as_pbvs_and_parks() -> None:
 
 
 def test_the_filter_predicts_the_goal_through_the_robots_own_motion() -> None:
-    from agents.analytic.pbvs_ekf import PBVSEKFPolicy
+    from radial_ibvs_agents.analytic.pbvs_ekf import PBVSEKFPolicy
 
     ekf = PBVSEKFPolicy()
     mean, cov, velocity = np.array([[2.0, 1.0, 0.3]]), ekf.init_cov[None].copy(), np.zeros((1, 2))

@@ -11,10 +11,10 @@ from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
 import radial_ibvs_gym  # noqa: F401
-from agents import make_policy
-from agents.analytic.planner import MapPlanner, Plan, plan_path, segment_free
-from agents.cli import main
-from agents.rollouts import make_env, run_episode
+from radial_ibvs_agents import make_policy
+from radial_ibvs_agents.analytic.planner import MapPlanner, Plan, plan_path, segment_free
+from radial_ibvs_agents.cli import main
+from radial_ibvs_agents.rollouts import make_env, run_episode
 
 ROOM = np.array([8.0, 6.0])
 WALL = np.array([[4.0, 3.0, 1.2]])  # a pillar between start and goal
@@ -97,8 +97,8 @@ def test_without_ompl_the_error_names_the_extra(monkeypatch, capsys) -> None:
 
 
 def test_every_summary_gives_the_planners_rate_as_the_limit() -> None:
-    from agents.experiments.benchmark import run_benchmark, summary_rows
-    from agents.experiments.tables import markdown_table
+    from radial_ibvs_agents.experiments.benchmark import run_benchmark, summary_rows
+    from radial_ibvs_agents.experiments.tables import markdown_table
 
     results = run_benchmark(["random", "planner"], ["paper-lab"], episodes=2, progress=False)
     summaries = summary_rows(results)
@@ -161,7 +161,7 @@ def _aligner(approach: float = 0.0) -> MapPlanner:
 def _park_rooms(planner: MapPlanner, n: int, watch) -> np.ndarray:
     """Run one episode in each of ``n`` held-out random rooms (kinematic); call
     ``watch(obs, action, done)`` before each step; return whether each episode parked."""
-    from agents.learned.training.sb3_vec_env import make_vec_env
+    from radial_ibvs_agents.learned.training.sb3_vec_env import make_vec_env
 
     venv = make_vec_env(
         "RadialIBVS/Parking-v0", n, seed=10_000, monitor=False, scenario="random",

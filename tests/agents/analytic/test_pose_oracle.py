@@ -7,7 +7,7 @@ from stable_baselines3.common.env_util import make_vec_env
 from stable_baselines3.common.evaluation import evaluate_policy
 
 import radial_ibvs_gym  # noqa: F401
-from agents import PoseOracle, make_policy
+from radial_ibvs_agents import PoseOracle, make_policy
 
 
 @pytest.mark.parametrize("task", range(4))
@@ -49,7 +49,7 @@ def test_oracle_stops_at_the_goal() -> None:
 
 
 def test_oracle_with_nav2_speeds_drives_towards_the_goal() -> None:
-    from agents import SmoothControlLaw
+    from radial_ibvs_agents import SmoothControlLaw
 
     oracle = PoseOracle(law=SmoothControlLaw())
     obs = {"robot_pose": np.array([0.0, 0.0, 0.0]), "goal_pose": np.array([2.0, 0.0, 0.0])}
@@ -61,7 +61,7 @@ def test_oracle_with_nav2_speeds_drives_towards_the_goal() -> None:
 
 
 def test_backward_mode_reverses_to_a_goal_behind_and_parks_on_a_shorter_path() -> None:
-    from agents.rollouts import make_env, run_episode
+    from radial_ibvs_agents.rollouts import make_env, run_episode
 
     options = {"start": [5.0, 5.0, 0.0], "goal": [3.0, 5.2, 0.0]}  # the goal 2 m behind
     logs = {}
@@ -77,7 +77,7 @@ def test_backward_mode_reverses_to_a_goal_behind_and_parks_on_a_shorter_path() -
 
 
 def test_backward_mode_changes_nothing_when_the_goal_is_ahead() -> None:
-    from agents.analytic.ibvs_maths import robot_command
+    from radial_ibvs_agents.analytic.ibvs_maths import robot_command
 
     rng = np.random.default_rng(0)
     for _ in range(200):
@@ -92,7 +92,7 @@ def test_backward_mode_changes_nothing_when_the_goal_is_ahead() -> None:
 
 @pytest.mark.parametrize("name", ["ibvs-backward", "oracle-backward"])
 def test_backward_variants_park_the_papers_four_tasks(name: str) -> None:
-    from agents.rollouts import make_env, run_episode
+    from radial_ibvs_agents.rollouts import make_env, run_episode
 
     policy = make_policy(name)
     for task in range(4):

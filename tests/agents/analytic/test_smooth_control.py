@@ -9,7 +9,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from agents.analytic.smooth_control import SmoothControlLaw, curvature, ego_polar
+from radial_ibvs_agents.analytic.smooth_control import SmoothControlLaw, curvature, ego_polar
 
 # ROS 2 nav2, nav2_graceful_controller/test/test_graceful_controller.cpp (ros-navigation/
 # navigation2), SmoothControlLawTest.calculateCurvature and .calculateRegularVelocity:

@@ -5,8 +5,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from agents.cli import main
-from agents.experiments.demo import invariance_error
+from radial_ibvs_agents.cli import main
+from radial_ibvs_agents.experiments.demo import invariance_error
 from radial_ibvs_gym import paper
 from radial_ibvs_gym.camera import paper_camera
 from radial_ibvs_gym.geometry import world_to_camera
@@ -50,7 +50,7 @@ def test_eq39_points_visible_and_radial_at_start_and_goals(mirror: str, task: in
 
 
 def test_help_texts_print_percent_signs_once_and_the_version_is_there(capsys) -> None:
-    from agents.cli import COMMANDS
+    from radial_ibvs_agents.cli import COMMANDS
     from radial_ibvs_gym import __version__
 
     for command in COMMANDS:
@@ -67,10 +67,10 @@ def test_help_texts_print_percent_signs_once_and_the_version_is_there(capsys) ->
 def test_help_lists_every_policy_and_the_extra_each_needs(
     command: str, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    from agents.analytic.registry import DESCRIPTIONS, EXTRAS
-    from agents.experiments.suites import SUITES
-    from agents.learned import shipped_models
-    from agents.registry import POLICY_NAMES
+    from radial_ibvs_agents.analytic.registry import DESCRIPTIONS, EXTRAS
+    from radial_ibvs_agents.experiments.suites import SUITES
+    from radial_ibvs_agents.learned import shipped_models
+    from radial_ibvs_agents.registry import POLICY_NAMES
 
     with pytest.raises(SystemExit):
         main([command, "--help"])
@@ -95,8 +95,8 @@ def test_evaluate_judges_as_the_benchmark_whatever_hold_a_model_trained_with(
     """``ppo-pose-layer`` trained asking a 10-step hold; ``evaluate`` judges at 1 unless told."""
     import json
 
-    from agents.cli import main
-    from agents.learned import load
+    from radial_ibvs_agents.cli import main
+    from radial_ibvs_agents.learned import load
 
     assert load("ppo-pose-layer").env_kwargs["success_hold_steps"] == 10
     rows = tmp_path / "rows.json"

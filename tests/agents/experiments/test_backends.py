@@ -15,13 +15,13 @@ from typing import Any
 
 import pytest
 
-from agents.cli import main
-from agents.experiments import benchmark
-from agents.experiments.backends import RayBackend, import_ray, make_backend
-from agents.experiments.jobs import Job
-from agents.experiments.store import job_key
-from agents.experiments.suites import SUITES
-from agents.rows import RUN_FIELDS
+from radial_ibvs_agents.cli import main
+from radial_ibvs_agents.experiments import benchmark
+from radial_ibvs_agents.experiments.backends import RayBackend, import_ray, make_backend
+from radial_ibvs_agents.experiments.jobs import Job
+from radial_ibvs_agents.experiments.store import job_key
+from radial_ibvs_agents.experiments.suites import SUITES
+from radial_ibvs_agents.rows import RUN_FIELDS
 
 POLICIES, SUITE_NAMES = ["ibvs", "oracle"], ["paper"]
 TIMING = RUN_FIELDS  # how a row was run (a timing, the batch), not the episode
@@ -41,7 +41,7 @@ def small_chunks(monkeypatch: pytest.MonkeyPatch) -> None:
 @pytest.fixture(scope="module")
 def reference() -> str:
     """The rows of an undisturbed local run in one process."""
-    import agents.experiments.benchmark as b
+    import radial_ibvs_agents.experiments.benchmark as b
 
     saved, b.CHUNK = b.CHUNK, 2
     try:
@@ -214,7 +214,7 @@ def test_ray_without_authentication_is_refused(monkeypatch) -> None:
 
 _DRIVER = """
 import os, sys, time
-from agents.experiments.backends import RayBackend
+from radial_ibvs_agents.experiments.backends import RayBackend
 RayBackend(num_cpus=1)
 print("ready", flush=True)
 time.sleep(600)
@@ -319,7 +319,7 @@ def test_ray_imported_first_is_refused_for_a_private_instance() -> None:
         pytest.skip("Ray is not installed")
     code = (
         "import ray\n"
-        "from agents.experiments.backends import import_ray\n"
+        "from radial_ibvs_agents.experiments.backends import import_ray\n"
         "try:\n    import_ray()\nexcept ValueError as error:\n    print('refused:', error)\n"
         "else:\n    print('accepted')\n"
     )

@@ -1,9 +1,9 @@
 """Batched evaluation gives the rows of one episode at a time: same seed, same episode.
 
-The benchmark steps a job's episodes together in the native vector env and calls each policy
-once per step for the batch (:mod:`agents.rollouts.vector`). For every analytic policy the
-rows equal the scalar runner's bit for bit (timing aside); for the networks, the same success
-and end in every episode here (the actions differ in the last bits of a matrix product).
+The benchmark steps a job's episodes together in the native vector env and calls each policy once
+per step for the batch (:mod:`radial_ibvs_agents.rollouts.vector`). For every analytic policy the
+rows equal the scalar runner's bit for bit (timing aside); for the networks, the same success and
+end in every episode here (the actions differ in the last bits of a matrix product).
 """
 
 from __future__ import annotations
@@ -14,13 +14,13 @@ from typing import Any
 import numpy as np
 import pytest
 
-from agents import make_policy
-from agents.analytic.registry import ANALYTIC_POLICIES
-from agents.experiments import jobs
-from agents.experiments.suites import SUITES
-from agents.rollouts import batch_mode, make_env, run_episode, run_episodes
-from agents.rollouts.vector import batchable, run_batch
-from agents.rows import RUN_FIELDS
+from radial_ibvs_agents import make_policy
+from radial_ibvs_agents.analytic.registry import ANALYTIC_POLICIES
+from radial_ibvs_agents.experiments import jobs
+from radial_ibvs_agents.experiments.suites import SUITES
+from radial_ibvs_agents.rollouts import batch_mode, make_env, run_episode, run_episodes
+from radial_ibvs_agents.rollouts.vector import batchable, run_batch
+from radial_ibvs_agents.rows import RUN_FIELDS
 
 TIMING = RUN_FIELDS
 
@@ -40,7 +40,7 @@ VARIANTS = [
 
 def _rows(job: jobs.Job, batched: bool, monkeypatch: pytest.MonkeyPatch) -> list[dict]:
     if not batched:  # the rollouts read batch_mode when they run: None sends it one by one
-        import agents.rollouts as rollouts_module
+        import radial_ibvs_agents.rollouts as rollouts_module
 
         monkeypatch.setattr(rollouts_module, "batch_mode", lambda policy: None)
     result = jobs.run_job(job)
@@ -116,7 +116,7 @@ def test_what_is_not_batched_says_why() -> None:
 def test_the_policy_sees_only_the_robots_whose_episodes_go_on(
     monkeypatch: pytest.MonkeyPatch,
 ) -> None:
-    from agents.analytic.pbvs_ekf import PBVSEKFPolicy
+    from radial_ibvs_agents.analytic.pbvs_ekf import PBVSEKFPolicy
 
     sizes: list[int] = []
     predict = PBVSEKFPolicy.predict
@@ -137,7 +137,7 @@ def test_the_policy_sees_only_the_robots_whose_episodes_go_on(
 
 
 def test_run_episodes_names_an_env_the_policy_cannot_run_in_and_draws_tasks_from_the_scenario():
-    from agents.rollouts import EnvMismatchError
+    from radial_ibvs_agents.rollouts import EnvMismatchError
 
     class Misfit:  # a policy whose training env took an argument these envs do not
         batch_mode = "batch"

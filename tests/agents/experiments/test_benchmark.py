@@ -9,10 +9,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from agents.cli import main
-from agents.experiments.benchmark import run_benchmark, summary_rows
-from agents.experiments.suites import SUITES, suite_variants
-from agents.rows import RUN_FIELDS, wilson_interval
+from radial_ibvs_agents.cli import main
+from radial_ibvs_agents.experiments.benchmark import run_benchmark, summary_rows
+from radial_ibvs_agents.experiments.suites import SUITES, suite_variants
+from radial_ibvs_agents.rows import RUN_FIELDS, wilson_interval
 
 
 def test_every_suite_of_the_issue_exists_with_its_variants() -> None:
@@ -157,7 +157,7 @@ def test_render_rejects_bad_formats_before_running(
 
 @pytest.mark.slow
 def test_long_variants_are_split_into_chunks_and_merged_back_in_seed_order(monkeypatch) -> None:
-    from agents.experiments import benchmark
+    from radial_ibvs_agents.experiments import benchmark
 
     monkeypatch.setattr(benchmark, "CHUNK", 3)
     results = run_benchmark(["random"], ["mirror-swap"], episodes=7, workers=2, progress=False)
@@ -171,8 +171,8 @@ def test_long_variants_are_split_into_chunks_and_merged_back_in_seed_order(monke
 
 
 def test_the_costliest_jobs_start_first_and_the_results_keep_their_order() -> None:
-    from agents.experiments.backends import LocalBackend
-    from agents.experiments.benchmark import job_cost
+    from radial_ibvs_agents.experiments.backends import LocalBackend
+    from radial_ibvs_agents.experiments.benchmark import job_cost
 
     class Recording(LocalBackend):
         def imap_unordered(self, fn, items, initializer=None):
@@ -194,7 +194,7 @@ def test_the_costliest_jobs_start_first_and_the_results_keep_their_order() -> No
 
 
 def test_generalisation_suites_use_held_out_seeds_and_other_cameras() -> None:
-    from agents.experiments.suites import HELD_OUT_SEED
+    from radial_ibvs_agents.experiments.suites import HELD_OUT_SEED
 
     results = run_benchmark(["ibvs"], ["held-out", "cross-camera"], episodes=2, progress=False)
     for result in results:
@@ -205,7 +205,7 @@ def test_generalisation_suites_use_held_out_seeds_and_other_cameras() -> None:
 
 
 def test_rows_report_success_at_three_tolerances_and_why_they_ended() -> None:
-    from agents.rows import TOLERANCES
+    from radial_ibvs_agents.rows import TOLERANCES
 
     results = run_benchmark(
         ["ibvs", "random"], ["random"], episodes=6, progress=False
@@ -225,7 +225,7 @@ def test_rows_report_success_at_three_tolerances_and_why_they_ended() -> None:
 
 
 def test_a_looser_tolerance_counts_a_close_time_out_but_not_a_close_crash() -> None:
-    from agents.rollouts.log import EpisodeLog
+    from radial_ibvs_agents.rollouts.log import EpisodeLog
 
     def log(position: float, heading: float, collision: bool, terminated: bool) -> EpisodeLog:
         info = {"position_error_m": position, "heading_error_deg": heading,
@@ -244,9 +244,9 @@ def test_a_looser_tolerance_counts_a_close_time_out_but_not_a_close_crash() -> N
 
 
 def test_each_suites_time_is_summed_from_its_jobs_and_resumed_chunks_are_counted_apart():
-    from agents.experiments.benchmark import suite_timings
-    from agents.experiments.jobs import Job, JobResult
-    from agents.experiments.tables import timings_table
+    from radial_ibvs_agents.experiments.benchmark import suite_timings
+    from radial_ibvs_agents.experiments.jobs import Job, JobResult
+    from radial_ibvs_agents.experiments.tables import timings_table
 
     paper, held = SUITES["paper"][0], SUITES["held-out"][0]
     results = [
@@ -260,7 +260,7 @@ def test_each_suites_time_is_summed_from_its_jobs_and_resumed_chunks_are_counted
     table = timings_table(suite_timings(results), workers=2)
     assert "| paper | 4 | 4 | 100% | 2 s |" in table and "held-out (1 chunks resumed)" in table
     # a job of two chunks, one loaded and one run now, keeps the run one's time
-    from agents.experiments.benchmark import _merge
+    from radial_ibvs_agents.experiments.benchmark import _merge
 
     chunks = [
         JobResult(Job("ibvs", held, 2, 0), [{}, {}], [], resumed=1),
@@ -275,9 +275,9 @@ def test_each_suites_time_is_summed_from_its_jobs_and_resumed_chunks_are_counted
 
 def test_every_policy_is_judged_alike_whatever_its_training_env_asked(monkeypatch):
     """A model trained with ``success_hold_steps: 10`` is judged as every other policy."""
-    import agents.rollouts as rollouts
-    from agents.experiments import jobs
-    from agents.learned import load
+    import radial_ibvs_agents.rollouts as rollouts
+    from radial_ibvs_agents.experiments import jobs
+    from radial_ibvs_agents.learned import load
 
     model = load("ppo-pose-layer")
     assert model.env_kwargs.get("success_hold_steps") == 10  # what its training asked

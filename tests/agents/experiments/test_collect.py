@@ -7,11 +7,11 @@ import csv
 import numpy as np
 import pytest
 
-from agents.analytic import make_analytic
-from agents.cli import main
-from agents.experiments.collect import DEFAULT_LAYOUT, collect
-from agents.learned.dagger.datasets import load_collected
-from agents.rollouts import make_env
+from radial_ibvs_agents.analytic import make_analytic
+from radial_ibvs_agents.cli import main
+from radial_ibvs_agents.experiments.collect import DEFAULT_LAYOUT, collect
+from radial_ibvs_agents.learned.dagger.datasets import load_collected
+from radial_ibvs_agents.rollouts import make_env
 
 pytest.importorskip("minari")
 pytest.importorskip("h5py")
@@ -58,7 +58,7 @@ def test_cli_collect_and_refuse_to_overwrite(tmp_path, capsys):
 
 
 def test_dagger_starts_from_a_dataset(dataset, tmp_path):
-    from agents.learned.dagger.distill import dagger, dataset_labels, load_dagger_config
+    from radial_ibvs_agents.learned.dagger.distill import dagger, dataset_labels, load_dagger_config
 
     steps = load_collected(dataset).total_steps
     obs, labels = dataset_labels(dataset, ["points", "visible", "c_error"], None)

@@ -8,10 +8,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from agents.cli import main
-from agents.experiments.tables import results_table, seeds_table
-from agents.rows import load_rows
-from agents.stats import iqm_interval
+from radial_ibvs_agents.cli import main
+from radial_ibvs_agents.experiments.tables import results_table, seeds_table
+from radial_ibvs_agents.rows import load_rows
+from radial_ibvs_agents.stats import iqm_interval
 
 
 def _row(policy: str, suite: str, variant: str, success: bool, end: str, seed: int) -> dict:
@@ -156,7 +156,7 @@ def test_into_regenerates_the_marked_block_and_keeps_the_rest(tmp_path: Path) ->
 
 
 def test_success_curves_count_the_episodes_within_each_tolerance():
-    from agents.experiments.benchmark_plots import success_curve
+    from radial_ibvs_agents.experiments.benchmark_plots import success_curve
 
     rows = [
         {"final_position_error_m": 0.01, "collision": False},
@@ -170,7 +170,7 @@ def test_success_curves_count_the_episodes_within_each_tolerance():
 
 
 def test_baselines_add_both_limits_the_classical_policies_and_the_student():
-    from agents.cli.benchmark import BASELINES, policies_to_run
+    from radial_ibvs_agents.cli.benchmark import BASELINES, policies_to_run
 
     default = ["ibvs", "planner", "planner-image-goal", "random"]
     assert policies_to_run(["./mine"], True, default, True) == ["./mine", *BASELINES]

@@ -9,10 +9,10 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from agents.cli import main
-from agents.experiments import CASES, ROBUSTNESS_CASES, reproduce
-from agents.experiments.figures import servoing_signals
-from agents.io import write_atomic
+from radial_ibvs_agents.cli import main
+from radial_ibvs_agents.experiments import CASES, ROBUSTNESS_CASES, reproduce
+from radial_ibvs_agents.experiments.figures import servoing_signals
+from radial_ibvs_agents.io import write_atomic
 
 CONTRACT_KEYS = {
     "policy",

@@ -14,12 +14,12 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from agents.experiments import benchmark, store
-from agents.experiments.jobs import Job
-from agents.experiments.store import job_key
-from agents.experiments.suites import SUITES, Variant
-from agents.learned import MODELS_DIR
-from agents.rows import RUN_FIELDS
+from radial_ibvs_agents.experiments import benchmark, store
+from radial_ibvs_agents.experiments.jobs import Job
+from radial_ibvs_agents.experiments.store import job_key
+from radial_ibvs_agents.experiments.suites import SUITES, Variant
+from radial_ibvs_agents.learned import MODELS_DIR
+from radial_ibvs_agents.rows import RUN_FIELDS
 from radial_ibvs_gym.config import configs_dir
 
 ROOT = Path(__file__).resolve().parents[3]
@@ -82,8 +82,8 @@ def test_a_scenario_edited_during_a_run_changes_the_next_runs_keys(tmp_path: Pat
 def test_the_policy_settings_and_the_version_are_in_the_key(monkeypatch) -> None:
     job = Job("ibvs", SUITES["paper"][0], 2)
     before = job_key(job)
-    from agents import registry
-    from agents.analytic import IBVSPolicy
+    from radial_ibvs_agents import registry
+    from radial_ibvs_agents.analytic import IBVSPolicy
 
     monkeypatch.setitem(registry._FACTORIES, "ibvs", lambda **kw: IBVSPolicy("paper", lam=0.7))
     assert job_key(job) != before
@@ -149,7 +149,8 @@ def _alive(pid: int) -> bool:
 
 @pytest.mark.skipif(not Path("/proc").is_dir(), reason="reads /proc")
 def test_workers_die_with_their_killed_parent(tmp_path: Path) -> None:
-    argv = [sys.executable, "-m", "agents.cli", "benchmark", "--suites", "random", "--policies",
+    argv = [sys.executable, "-m", "radial_ibvs_agents.cli", "benchmark", "--suites", "random",
+            "--policies",
             "ibvs", "--workers", "2", "--no-progress", "--out", str(tmp_path)]  # fmt: skip
     main = subprocess.Popen(argv, cwd=ROOT, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     try:

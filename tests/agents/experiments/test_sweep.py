@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 import yaml
 
-from agents.cli import main
-from agents.experiments import sweep
-from agents.stats import iqm, iqm_interval
+from radial_ibvs_agents.cli import main
+from radial_ibvs_agents.experiments import sweep
+from radial_ibvs_agents.stats import iqm, iqm_interval
 
 CONFIG = Path(__file__).resolve().parents[3] / "configs" / "agents" / "ppo_parking.yaml"
 
@@ -101,7 +101,7 @@ def test_a_ray_sweep_trains_the_same_model_as_a_local_one(
 ) -> None:
     if importlib.util.find_spec("ray") is None:  # not importing it: the backend configures it
         pytest.skip("Ray is not installed")
-    from agents.experiments.backends import RayBackend
+    from radial_ibvs_agents.experiments.backends import RayBackend
 
     backend = RayBackend(num_cpus=2)  # reused if a Ray instance already runs here
     try:

@@ -12,14 +12,15 @@ from pathlib import Path
 
 import pytest
 
-from agents.learned.dagger.distill_config import load_dagger_config
-from agents.learned.training.zoo_config import load_train_config
+from radial_ibvs_agents.learned import MODELS_DIR
+from radial_ibvs_agents.learned.dagger.distill_config import load_dagger_config
+from radial_ibvs_agents.learned.training.zoo_config import load_train_config
 from radial_ibvs_gym.config import ConfigError, read_yaml, read_yaml_with_base
 
 ROOT = Path(__file__).resolve().parents[3]
 SHIPPED = sorted((ROOT / "configs" / "agents").glob("*.yaml"))
 RESEARCH = sorted((ROOT / "research" / "configs").glob("*.yaml"))
-MODELS = sorted(p for p in (ROOT / "agents" / "learned" / "models").iterdir() if p.is_dir())
+MODELS = sorted(p for p in MODELS_DIR.iterdir() if p.is_dir())
 
 
 def _load(path: Path) -> object:
@@ -75,7 +76,7 @@ def test_each_shipped_model_names_the_config_that_made_it(model: Path) -> None:
 
 
 def test_the_old_student_name_is_refused_with_its_new_name():
-    from agents import make_policy
+    from radial_ibvs_agents import make_policy
 
     with pytest.raises(ValueError, match="dagger-student"):
         make_policy("ppo-student")

@@ -13,8 +13,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 
 import radial_ibvs_gym  # noqa: F401
-from agents.learned.training.curriculum import CurriculumConfig
-from agents.learned.training.sb3_vec_env import make_vec_env
+from radial_ibvs_agents.learned.training.curriculum import CurriculumConfig
+from radial_ibvs_agents.learned.training.sb3_vec_env import make_vec_env
 from radial_ibvs_gym.geometry import wrap_angle
 from radial_ibvs_gym.scenarios import load_scenario
 

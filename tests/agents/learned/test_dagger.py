@@ -1,6 +1,6 @@
-"""DAgger (``agents.learned.dagger.distill``) without a student: the goal in the robot's frame, the
-teacher's labels, the config's errors, each round's step size and the loss. The tests that train
-a student are in ``training/test_dagger_students.py``."""
+"""DAgger (``radial_ibvs_agents.learned.dagger.distill``) without a student: the goal in the robot's
+frame, the teacher's labels, the config's errors, each round's step size and the loss. The tests
+that train a student are in ``training/test_dagger_students.py``."""
 
 from __future__ import annotations
 
@@ -11,9 +11,9 @@ import pytest
 import torch
 from dagger_setup import ENV, SMALL
 
-from agents.analytic import make_analytic
-from agents.learned.dagger.distill import goal_in_robot_frame, load_dagger_config
-from agents.learned.training.sb3_vec_env import make_vec_env
+from radial_ibvs_agents.analytic import make_analytic
+from radial_ibvs_agents.learned.dagger.distill import goal_in_robot_frame, load_dagger_config
+from radial_ibvs_agents.learned.training.sb3_vec_env import make_vec_env
 
 
 def test_goal_in_robot_frame():
@@ -24,7 +24,7 @@ def test_goal_in_robot_frame():
 def test_the_teachers_labels_still_park():
     """The teacher's settings (turn and drive together, forwards only, the smooth law in the
     last 30 cm) park 32 of 32 rooms, and hand over to the oracle near the goal."""
-    from agents.analytic import PoseOracle
+    from radial_ibvs_agents.analytic import PoseOracle
 
     teacher = make_analytic(
         "planner", goal_tolerance=0.01, waypoint_tolerance=0.1, hold_radius=0.0,
@@ -80,7 +80,7 @@ def test_config_errors_name_the_key(tmp_path, line, match):
 def test_each_rounds_fit_anneals_the_step_size_from_the_full_one(tmp_path):
     """final_learning_rate: every round starts at learning_rate and ends at the final one,
     along a cosine (half-way: the mean); without it the step size is left alone."""
-    from agents.learned.dagger.distill import round_schedule
+    from radial_ibvs_agents.learned.dagger.distill import round_schedule
 
     path = tmp_path / "config.yaml"
     path.write_text(SMALL + "  learning_rate: 0.001\n  final_learning_rate: 0.0001\n")
@@ -105,7 +105,7 @@ def test_each_rounds_fit_anneals_the_step_size_from_the_full_one(tmp_path):
 def test_the_relative_loss_weighs_a_small_labels_error_as_a_large_ones():
     """With relative_floor, missing a label of 0.02 by 0.01 costs what missing a label of 1 by
     0.5 does (about); the plain loss makes the first 2,500 times cheaper."""
-    from agents.learned.dagger.distill import action_loss
+    from radial_ibvs_agents.learned.dagger.distill import action_loss
 
     labels = torch.tensor([[0.02, 1.0]])
     small_miss = torch.tensor([[0.03, 1.0]])

@@ -1,6 +1,5 @@
-"""The feature extractors (``agents.learned.networks.extractors``): the error-scale one and the
-landmark
-set's."""
+"""The feature extractors (``radial_ibvs_agents.learned.networks.extractors``): the error-scale one
+and the landmark set's."""
 
 from __future__ import annotations
 
@@ -9,7 +8,7 @@ import pytest
 import torch
 from gymnasium import spaces
 
-from agents.learned.networks.extractors import ErrorScaleExtractor, LandmarkSetExtractor
+from radial_ibvs_agents.learned.networks.extractors import ErrorScaleExtractor, LandmarkSetExtractor
 
 
 def test_error_scale_extractor_is_scale_invariant_in_direction():

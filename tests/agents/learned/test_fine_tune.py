@@ -1,6 +1,5 @@
-"""Fine-tuning with PPO (``agents.learned.training.fine_tune``) without a student: the critic's
-warm-up,
-the config's errors. The tests that fine-tune a student are in
+"""Fine-tuning with PPO (``radial_ibvs_agents.learned.training.fine_tune``) without a student: the
+critic's warm-up, the config's errors. The tests that fine-tune a student are in
 ``training/test_fine_tune_students.py``."""
 
 from __future__ import annotations
@@ -8,7 +7,7 @@ from __future__ import annotations
 import pytest
 from dagger_setup import ENV, fine_tune_config
 
-from agents.learned.training.sb3_vec_env import make_vec_env
+from radial_ibvs_agents.learned.training.sb3_vec_env import make_vec_env
 
 
 def test_the_warmup_freezes_the_actor_and_releases_it_at_the_end():
@@ -16,7 +15,7 @@ def test_the_warmup_freezes_the_actor_and_releases_it_at_the_end():
     ends inside the warm-up still leaves the policy wholly trainable."""
     from stable_baselines3 import PPO
 
-    from agents.learned.training.fine_tune import CriticWarmup, critic_parameters
+    from radial_ibvs_agents.learned.training.fine_tune import CriticWarmup, critic_parameters
 
     venv = make_vec_env("RadialIBVS/Parking-v0", 2, seed=0, monitor=False, **ENV)
     model = PPO("MultiInputPolicy", venv, n_steps=16, batch_size=32, n_epochs=1, device="cpu")
@@ -49,7 +48,7 @@ def test_fine_tune_errors_name_the_value(tmp_path, fine_tune, match):
 
 
 def test_fine_tune_without_a_student_is_refused(tmp_path):
-    from agents.learned.training.train import train
+    from radial_ibvs_agents.learned.training.train import train
 
     config = fine_tune_config(tmp_path, "  fine_tune: {log_std: -2.0}\n")
     with pytest.raises(ValueError, match="fine_tune starts from a student"):

@@ -1,5 +1,5 @@
-"""The observation history (``agents.learned.networks.history``): the stack of past frames, its
-space."""
+"""The observation history (``radial_ibvs_agents.learned.networks.history``): the stack of past
+frames, its space."""
 
 from __future__ import annotations
 
@@ -7,7 +7,12 @@ import numpy as np
 import pytest
 from gymnasium import spaces
 
-from agents.learned.networks.history import HistoryConfig, HistoryStack, history_key, history_space
+from radial_ibvs_agents.learned.networks.history import (
+    HistoryConfig,
+    HistoryStack,
+    history_key,
+    history_space,
+)
 
 
 def test_history_stack_shifts_and_restarts():

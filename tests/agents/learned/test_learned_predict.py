@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
-from agents.learned.files.loading import LearnedPolicy, load
-from agents.learned.networks.residual import BASE_KEY, ResidualPolicy
+from radial_ibvs_agents.learned.files.loading import LearnedPolicy, load
+from radial_ibvs_agents.learned.networks.residual import BASE_KEY, ResidualPolicy
 
 
 def _observations(policy: Any, n: int, seed: int) -> list[dict[str, np.ndarray]]:

@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import json
 import shutil
+import sys
 from pathlib import Path
 
 import gymnasium as gym
@@ -17,19 +18,23 @@ import pytest
 from pickle_payloads import payload, poison_zip
 
 import radial_ibvs_gym  # noqa: F401
-from agents import load
-from agents.cli import main
-from agents.learned import MODELS_DIR
-from agents.learned.files.former_paths import FORMER_MODULES, current_name
-from agents.learned.files.model_files import (
+from radial_ibvs_agents import load
+from radial_ibvs_agents.cli import main
+from radial_ibvs_agents.learned import MODELS_DIR
+from radial_ibvs_agents.learned.files.former_paths import (
+    FORMER_MODULES,
+    current_module,
+    current_name,
+)
+from radial_ibvs_agents.learned.files.model_files import (
     DESCRIPTION,
     WEIGHTS,
     load_policy,
     space_from_json,
     space_to_json,
 )
-from agents.learned.files.saving import save_model_dir
-from agents.rollouts import make_env
+from radial_ibvs_agents.learned.files.saving import save_model_dir
+from radial_ibvs_agents.rollouts import make_env
 
 CONFIG = Path(__file__).resolve().parents[3] / "configs" / "agents" / "ppo_parking.yaml"
 
@@ -106,8 +111,8 @@ def test_resume_needs_the_plain_observation_statistics(trained: Path, tmp_path: 
     shutil.copytree(trained, source)
     (source / "normalization.npz").unlink()
     with pytest.raises(ValueError, match=r"normalization\.npz are missing"):
-        from agents.learned.training.train import train
-        from agents.learned.training.zoo_config import load_train_config
+        from radial_ibvs_agents.learned.training.train import train
+        from radial_ibvs_agents.learned.training.zoo_config import load_train_config
 
         train(load_train_config(CONFIG), tmp_path / "x", resume=source, total_timesteps=64)
 
@@ -130,7 +135,7 @@ def test_the_shipped_model_acts_as_its_sb3_zip_did() -> None:
 def test_an_sb3_model_saved_with_save_model_dir_loads(tmp_path: Path) -> None:
     from stable_baselines3 import PPO
 
-    from agents import make_vec_env
+    from radial_ibvs_agents import make_vec_env
 
     kwargs = {"physics": "kinematic", "scenario": "paper-lab"}
     venv = make_vec_env("RadialIBVS/Parking-v0", 2, seed=0, **kwargs)
@@ -151,8 +156,8 @@ def test_save_model_dir_reads_the_env_and_its_normalisation_from_the_model(
     from stable_baselines3.common.env_util import make_vec_env as sb3_make_vec_env
     from stable_baselines3.common.vec_env import VecNormalize
 
-    from agents import make_vec_env, save_model_dir
-    from agents.learned.files.saving import env_spec_of
+    from radial_ibvs_agents import make_vec_env, save_model_dir
+    from radial_ibvs_agents.learned.files.saving import env_spec_of
 
     kwargs = {"physics": "kinematic", "scenario": "paper-sim", "task": 2}
     venv = VecNormalize(make_vec_env("RadialIBVS/Parking-v0", 2, seed=0, **kwargs))
@@ -184,7 +189,7 @@ def test_trust_model_loads_a_folder_holding_only_an_sb3_zip(tmp_path: Path) -> N
     """What --help says: a stable-baselines3 model.zip, saved by SB3 itself, when trusted."""
     from stable_baselines3 import PPO
 
-    from agents import make_vec_env
+    from radial_ibvs_agents import make_vec_env
 
     venv = make_vec_env("RadialIBVS/Parking-v0", 2, seed=0, physics="kinematic")
     model = PPO(
@@ -252,18 +257,20 @@ def test_a_pickled_weights_file_is_a_value_error_even_when_trusted(tmp_path: Pat
 
 
 @pytest.mark.parametrize("name", ["ppo-pose-layer", "dagger-student"])
-def test_models_saved_before_the_regrouping_load_by_the_table_of_former_paths(name: str) -> None:
+def test_models_saved_before_the_moves_load_by_the_table_of_former_paths(name: str) -> None:
     # the shipped models were saved when the extractors were agents.learned.extractors
     folder = MODELS_DIR / name
     former = "agents.learned.extractors.LandmarkPoseExtractor"
     assert former in (folder / "policy.json").read_text()
-    assert current_name(former) == "agents.learned.networks.extractors.LandmarkPoseExtractor"
+    current = "radial_ibvs_agents.learned.networks.extractors.LandmarkPoseExtractor"
+    assert current_name(former) == current
     safe = load(name)
     extractor = safe.model.features_extractor
-    assert type(extractor).__module__ == "agents.learned.networks.extractors"
-    # a trusted model.zip: its pickles import the former module path
+    assert type(extractor).__module__ == "radial_ibvs_agents.learned.networks.extractors"
+    # a trusted model.zip: its pickles import the former module path, for the load only
     legacy = load(folder / "model.zip", trust_pickle=True)
     assert type(legacy.model.policy.features_extractor) is type(extractor)
+    assert "agents" not in sys.modules and "agents.learned.extractors" not in sys.modules
     obs = {k: v.sample() for k, v in safe.model.observation_space.spaces.items()}
     np.testing.assert_array_equal(safe.predict(obs)[0], legacy.predict(obs)[0])
 
@@ -271,7 +278,10 @@ def test_models_saved_before_the_regrouping_load_by_the_table_of_former_paths(na
 def test_every_former_module_path_names_a_current_module() -> None:
     import importlib
 
-    for former, current in FORMER_MODULES.items():
-        assert former.startswith("agents.learned.") and former.count(".") == 2
-        importlib.import_module(current)
+    for former in [*FORMER_MODULES, "agents", "agents.learned", "agents.analytic.ibvs_policy"]:
+        importlib.import_module(current_module(former))
+    assert current_module("agents.learned.extractors") == (
+        "radial_ibvs_agents.learned.networks.extractors"
+    )
     assert current_name("torch.nn.modules.activation.ReLU") == "torch.nn.modules.activation.ReLU"
+    assert current_name("agentsx.Y") == "agentsx.Y"

@@ -1,5 +1,5 @@
-"""The goal's pose solved from radial bearings (agents.learned.networks.pose_layer) and its
-extractor."""
+"""The goal's pose solved from radial bearings (radial_ibvs_agents.learned.networks.pose_layer) and
+its extractor."""
 
 from __future__ import annotations
 
@@ -13,9 +13,16 @@ from gymnasium import spaces
 from hypothesis import example, given, settings
 from hypothesis import strategies as st
 
-from agents.learned.dagger.distill import goal_in_robot_frame
-from agents.learned.networks.extractors import LandmarkPoseExtractor, LandmarkSetExtractor
-from agents.learned.networks.pose_layer import POSE_FEATURES, goal_pose_features, solve_goal_pose
+from radial_ibvs_agents.learned.dagger.distill import goal_in_robot_frame
+from radial_ibvs_agents.learned.networks.extractors import (
+    LandmarkPoseExtractor,
+    LandmarkSetExtractor,
+)
+from radial_ibvs_agents.learned.networks.pose_layer import (
+    POSE_FEATURES,
+    goal_pose_features,
+    solve_goal_pose,
+)
 
 finite = st.floats(-3.0, 3.0, allow_nan=False)
 
@@ -174,7 +181,7 @@ def test_pose_history_solves_each_past_frame():
 
 
 def test_pose_history_needs_the_pose_extractor_and_the_points_history(tmp_path):
-    from agents.learned.dagger.distill import load_dagger_config
+    from radial_ibvs_agents.learned.dagger.distill import load_dagger_config
 
     path = tmp_path / "c.yaml"
     both, points = "{frames: 2, keys: [points, visible]}", "{frames: 2, keys: [points]}"

@@ -5,9 +5,9 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from agents.analytic.ibvs_policy import IBVSPolicy
-from agents.learned.networks.residual import BASE_KEY, ResidualConfig, ResidualVecEnv
-from agents.learned.training.sb3_vec_env import make_vec_env
+from radial_ibvs_agents.analytic.ibvs_policy import IBVSPolicy
+from radial_ibvs_agents.learned.networks.residual import BASE_KEY, ResidualConfig, ResidualVecEnv
+from radial_ibvs_agents.learned.training.sb3_vec_env import make_vec_env
 
 ENV_KWARGS = {
     "scenario": "random", "physics": "kinematic", "goal_depths": True, "max_landmarks": 16

@@ -1,6 +1,5 @@
-"""Training's config, in the rl-zoo3 format (``agents.learned.training.zoo_config``), and a short
-PPO run
-with the student's pose layer. The smoke run of PPO and its model are tested in
+"""Training's config, in the rl-zoo3 format (``radial_ibvs_agents.learned.training.zoo_config``),
+and a short PPO run with the student's pose layer. The smoke run of PPO and its model are tested in
 ``training/test_ppo_smoke_run.py``."""
 
 from __future__ import annotations
@@ -13,9 +12,9 @@ import numpy as np
 import pytest
 
 import radial_ibvs_gym  # noqa: F401
-from agents.learned import load
-from agents.learned.training.train import train
-from agents.learned.training.zoo_config import load_train_config, parse_kwargs_string
+from radial_ibvs_agents.learned import load
+from radial_ibvs_agents.learned.training.train import train
+from radial_ibvs_agents.learned.training.zoo_config import load_train_config, parse_kwargs_string
 
 CONFIG = Path(__file__).resolve().parents[3] / "configs" / "agents" / "ppo_parking.yaml"
 

@@ -23,7 +23,7 @@ def student(tmp_path_factory):
     ``test_dagger_students.py`` and ``test_fine_tune_students.py``."""
     from dagger_setup import SMALL
 
-    from agents.learned.dagger.distill import dagger, load_dagger_config
+    from radial_ibvs_agents.learned.dagger.distill import dagger, load_dagger_config
 
     path = tmp_path_factory.mktemp("dagger") / "config.yaml"
     path.write_text(SMALL)

@@ -8,9 +8,9 @@ from pathlib import Path
 import pytest
 
 import radial_ibvs_gym  # noqa: F401
-from agents.learned.training.curriculum import CurriculumConfig
-from agents.learned.training.train import train
-from agents.learned.training.zoo_config import load_train_config
+from radial_ibvs_agents.learned.training.curriculum import CurriculumConfig
+from radial_ibvs_agents.learned.training.train import train
+from radial_ibvs_agents.learned.training.zoo_config import load_train_config
 
 CONFIGS = Path(__file__).resolve().parents[4] / "configs" / "agents"
 
@@ -47,8 +47,8 @@ def test_the_her_config_builds_sac_with_her(tmp_path: Path) -> None:
     out = train(small, tmp_path / "sac", algo="sac", total_timesteps=300, progress=False)
     assert (out / "model.zip").is_file()
     # the benchmark runs it in its own env (ParkingGoal-v1), like any other policy
-    from agents.experiments.jobs import Job, run_job
-    from agents.experiments.suites import SUITES
+    from radial_ibvs_agents.experiments.jobs import Job, run_job
+    from radial_ibvs_agents.experiments.suites import SUITES
 
     result = run_job(Job(str(out), SUITES["held-out"][0], 2))
     assert result.skipped is None and len(result.rows) == 2

@@ -1,5 +1,6 @@
-"""DAgger (``agents.learned.dagger.distill``) that trains a student: the model it writes, what the
-loaded policy sees, determinism under a seed, the landmark-set students, the exported student."""
+"""DAgger (``radial_ibvs_agents.learned.dagger.distill``) that trains a student: the model it
+writes, what the loaded policy sees, determinism under a seed, the landmark-set students, the
+exported student."""
 
 from __future__ import annotations
 
@@ -10,10 +11,10 @@ import numpy as np
 import pytest
 from dagger_setup import ENV, SMALL
 
-from agents import load
-from agents.learned.dagger.distill import dagger, load_dagger_config
-from agents.learned.networks.history import HistoryStack
-from agents.learned.training.sb3_vec_env import make_vec_env
+from radial_ibvs_agents import load
+from radial_ibvs_agents.learned.dagger.distill import dagger, load_dagger_config
+from radial_ibvs_agents.learned.networks.history import HistoryStack
+from radial_ibvs_agents.learned.training.sb3_vec_env import make_vec_env
 
 
 def test_dagger_writes_a_model_agents_load_runs(student):
@@ -110,11 +111,12 @@ def test_a_landmark_set_student_is_stored_without_a_pickle_and_loads(tmp_path, e
 
 def test_an_exported_student_ships_as_an_sb3_ppo_model(student, tmp_path):
     """export_model ships a student with its kept round noted, and a stable-baselines3 PPO
-    model.zip (for SB3 users; agents.load never reads it) that acts as agents.load's policy."""
+    model.zip (for SB3 users; radial_ibvs_agents.load never reads it) that acts as
+    radial_ibvs_agents.load's policy."""
     from stable_baselines3 import PPO
 
-    from agents.learned.files.loading import load_policy
-    from agents.learned.training.train import export_model
+    from radial_ibvs_agents.learned.files.loading import load_policy
+    from radial_ibvs_agents.learned.training.train import export_model
 
     _, out = student
     shipped = export_model(out, tmp_path / "dagger-student")

@@ -1,5 +1,5 @@
 """PPO fine-tuning of a DAgger student (``train(init_from=...)``,
-``agents.learned.training.fine_tune``):
+``radial_ibvs_agents.learned.training.fine_tune``):
 what it takes from the student, the exploration noise, the critic's warm-up."""
 
 from __future__ import annotations
@@ -10,14 +10,14 @@ import numpy as np
 import torch
 from dagger_setup import ENV, fine_tune_config
 
-from agents import load
-from agents.learned.training.sb3_vec_env import make_vec_env
+from radial_ibvs_agents import load
+from radial_ibvs_agents.learned.training.sb3_vec_env import make_vec_env
 
 
 def test_ppo_fine_tuning_starts_from_the_student(student, tmp_path):
     """train(init_from=DIR) takes the student's architecture, weights, history, statistics."""
-    from agents.learned.training.train import train
-    from agents.learned.training.zoo_config import load_train_config
+    from radial_ibvs_agents.learned.training.train import train
+    from radial_ibvs_agents.learned.training.zoo_config import load_train_config
 
     _, out = student
     config_path = tmp_path / "ppo.yaml"
@@ -49,8 +49,8 @@ def test_ppo_fine_tuning_starts_from_the_student(student, tmp_path):
 def _fine_tuned(student, tmp_path, fine_tune: str, steps: int):
     """Fine-tune the student for ``steps`` env steps; return the directory, the tuned policy
     and the student's parameters by name."""
-    from agents.learned.files.loading import load_policy
-    from agents.learned.training.train import train
+    from radial_ibvs_agents.learned.files.loading import load_policy
+    from radial_ibvs_agents.learned.training.train import train
 
     _, out = student
     config = fine_tune_config(tmp_path, f"  fine_tune: {fine_tune}\n")
@@ -66,7 +66,7 @@ def test_fine_tuning_sets_the_noise_and_trains_the_critic_alone_first(student, t
     """fine_tune.log_std sets the exploration noise; during critic_warmup the actor's weights
     (and the features it shares with the critic) stay bit for bit the student's, the critic's
     move."""
-    from agents.learned.training.fine_tune import critic_parameters
+    from radial_ibvs_agents.learned.training.fine_tune import critic_parameters
 
     tuned_dir, tuned, before = _fine_tuned(
         student, tmp_path, "{log_std: -2.0, critic_warmup: 128}", 128

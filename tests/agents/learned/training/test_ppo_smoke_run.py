@@ -12,11 +12,11 @@ import numpy as np
 import pytest
 
 import radial_ibvs_gym  # noqa: F401
-from agents import make_policy
-from agents.cli import main
-from agents.learned import LearnedPolicy, load
-from agents.learned.training.train import train
-from agents.learned.training.zoo_config import load_train_config
+from radial_ibvs_agents import make_policy
+from radial_ibvs_agents.cli import main
+from radial_ibvs_agents.learned import LearnedPolicy, load
+from radial_ibvs_agents.learned.training.train import train
+from radial_ibvs_agents.learned.training.zoo_config import load_train_config
 
 CONFIG = Path(__file__).resolve().parents[4] / "configs" / "agents" / "ppo_parking.yaml"
 
@@ -58,7 +58,10 @@ def test_training_writes_a_loadable_model_directory(trained: Path) -> None:
 
 
 def test_training_evaluations_count_success_at_the_three_tolerances(trained: Path) -> None:
-    from agents.learned.training.tolerance_eval import read_tolerance_curve, success_within
+    from radial_ibvs_agents.learned.training.tolerance_eval import (
+        read_tolerance_curve,
+        success_within,
+    )
 
     curve = json.loads((trained / "metadata.json").read_text())["learning_curve"]
     rates = read_tolerance_curve(trained / "eval" / "tolerances.npz")
@@ -80,7 +83,7 @@ def test_learned_policy_matches_sb3_with_vecnormalize(trained: Path) -> None:
     from stable_baselines3.common.env_util import make_vec_env
     from stable_baselines3.common.vec_env import VecNormalize
 
-    from agents.learned.training.train import _restore_normalization
+    from radial_ibvs_agents.learned.training.train import _restore_normalization
 
     policy = load(trained)
     venv = make_vec_env("RadialIBVS/Parking-v0", n_envs=1, env_kwargs=policy.env_kwargs)
@@ -153,8 +156,8 @@ def test_missing_corrupt_and_unknown_models_are_named(trained: Path, tmp_path: P
 
 
 def test_benchmark_skips_a_model_whose_observations_do_not_fit_the_suite(trained: Path) -> None:
-    from agents.experiments.jobs import Job, run_job
-    from agents.experiments.suites import Variant
+    from radial_ibvs_agents.experiments.jobs import Job, run_job
+    from radial_ibvs_agents.experiments.suites import Variant
 
     lab = Variant("lab", "9 beacons", "paper-lab", {"physics": "kinematic"}, 2, False)
     result = run_job(Job(str(trained), lab, 2))
@@ -162,7 +165,7 @@ def test_benchmark_skips_a_model_whose_observations_do_not_fit_the_suite(trained
 
 
 def test_export_keeps_a_small_loadable_model_directory(trained: Path, tmp_path: Path) -> None:
-    from agents.learned.training.train import export_model
+    from radial_ibvs_agents.learned.training.train import export_model
 
     dest = export_model(trained, tmp_path / "ppo-test")
     names = {p.name for p in dest.iterdir()}

@@ -8,11 +8,11 @@ from pathlib import Path
 import numpy as np
 import yaml
 
-from agents.analytic.ibvs_policy import IBVSPolicy
-from agents.learned import load
-from agents.learned.networks.residual import ResidualConfig, ResidualPolicy
-from agents.learned.training.train import export_model, train
-from agents.learned.training.zoo_config import load_train_config
+from radial_ibvs_agents.analytic.ibvs_policy import IBVSPolicy
+from radial_ibvs_agents.learned import load
+from radial_ibvs_agents.learned.networks.residual import ResidualConfig, ResidualPolicy
+from radial_ibvs_agents.learned.training.train import export_model, train
+from radial_ibvs_agents.learned.training.zoo_config import load_train_config
 
 CONFIG = Path(__file__).resolve().parents[4] / "configs" / "agents" / "ppo_residual.yaml"
 

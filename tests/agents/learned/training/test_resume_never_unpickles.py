@@ -11,7 +11,7 @@ import pytest
 from pickle_payloads import payload, poison_zip
 
 import radial_ibvs_gym  # noqa: F401
-from agents.cli import main
+from radial_ibvs_agents.cli import main
 
 CONFIG = Path(__file__).resolve().parents[4] / "configs" / "agents" / "ppo_parking.yaml"
 

@@ -1,7 +1,0 @@
-"""DAgger: a privileged teacher distilled into an image-only student, ``radial-ibvs distill``.
-
-- :mod:`~agents.learned.dagger.distill`: the rounds (collect with the teacher's labels, fit the
-  student, export);
-- :mod:`~agents.learned.dagger.distill_config`: its settings (``configs/agents/dagger_*.yaml``);
-- :mod:`~agents.learned.dagger.datasets`: Minari datasets on local disk, read as data.
-"""

@@ -1,0 +1,7 @@
+"""``python -m radial_ibvs_agents.cli``: the same as the ``radial-ibvs`` command."""
+
+import sys
+
+from radial_ibvs_agents.cli import main
+
+sys.exit(main())
