@@ -41,6 +41,7 @@ from radial_ibvs_agents.learned.dagger.distill_config import (
     DaggerConfig,
     load_dagger_config,
 )
+from radial_ibvs_agents.learned.files.model_dir import replace_model_files
 from radial_ibvs_agents.learned.networks import extractors
 from radial_ibvs_agents.learned.networks.extractors import POSE_HISTORY_KEYS, error_key_of, raw_keys
 from radial_ibvs_agents.learned.networks.history import HistoryConfig, HistoryStack, history_space
@@ -266,12 +267,13 @@ def dagger(
         beta *= config.beta_decay
     best = max(rows, key=lambda r: (r["success_rate"], r["round"]))
     final = out / "rounds" / f"round_{int(best['round'])}"
-    for name in ("policy.safetensors", "policy.json", "normalization.npz"):
-        (out / name).write_bytes((final / name).read_bytes())
     meta = json.loads((final / "metadata.json").read_text())  # algo, env_id, env_kwargs...
     meta |= _metadata(config, seed, rows, command) | {"best_round": int(best["round"])}
-    write_json(out / "metadata.json", meta)
-    _plot(rows, out / "learning_curve.png")
+    with replace_model_files(out) as staging:  # the best round's files, all at once
+        for name in ("policy.safetensors", "policy.json", "normalization.npz"):
+            (staging / name).write_bytes((final / name).read_bytes())
+        write_json(staging / "metadata.json", meta)
+        _plot(rows, staging / "learning_curve.png")
     venv.close()
     return out
 

@@ -13,6 +13,7 @@ from pathlib import Path
 from typing import Any
 
 from radial_ibvs_agents.io import write_json
+from radial_ibvs_agents.learned.files.model_dir import replace_model_files
 from radial_ibvs_agents.learned.files.model_files import algorithms, save_normalization, save_policy
 from radial_ibvs_gym.registration import check_env_id
 
@@ -106,9 +107,11 @@ def save_model_dir(
     """Make a model trained with stable-baselines3 loadable by :func:`radial_ibvs_agents.load`.
 
     Writes ``policy.safetensors``, ``policy.json``, ``metadata.json`` and, when observations were
-    normalised, ``normalization.npz``. The directory is then what
-    ``radial-ibvs evaluate --policy DIR``, ``radial-ibvs benchmark --policies DIR`` and
-    ``radial_ibvs_agents.load(DIR)`` take.
+    normalised, ``normalization.npz``, all at once
+    (:func:`~radial_ibvs_agents.learned.files.model_dir.replace_model_files`): into an existing
+    folder, the model files of an earlier model are replaced or removed, other files kept. The
+    directory is then what ``radial-ibvs evaluate --policy DIR``, ``radial-ibvs benchmark
+    --policies DIR`` and ``radial_ibvs_agents.load(DIR)`` take.
 
     Parameters
     ----------
@@ -160,15 +163,15 @@ def save_model_dir(
     check_env_id(env_id, "env_id")
     if normalization is None and source is not None:
         normalization = _vec_normalize(source)
-    out = Path(directory)
-    save_policy(model, out, algo)
-    if normalization is not None:
-        save_normalization(normalization, out / "normalization.npz")
     meta = {
         "algo": algo,
         "env_id": env_id,
         "env_kwargs": dict(env_kwargs or {}),
         **(metadata or {}),
     }
-    write_json(out / "metadata.json", meta)
-    return out
+    with replace_model_files(directory) as staging:  # all at once, no stale file left
+        save_policy(model, staging, algo)
+        if normalization is not None:
+            save_normalization(normalization, staging / "normalization.npz")
+        write_json(staging / "metadata.json", meta)
+    return Path(directory)

@@ -32,6 +32,7 @@ from stable_baselines3.common.vec_env import VecNormalize
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from radial_ibvs_agents.io import write_json
+from radial_ibvs_agents.learned.files.model_dir import BEST_FILES, replace_model_files
 from radial_ibvs_agents.learned.files.model_files import (
     DESCRIPTION,
     WEIGHTS,
@@ -74,9 +75,10 @@ class _SaveBestFiles(BaseCallback):
         self.venv, self.directory, self.algo = venv, directory, algo
 
     def _on_step(self) -> bool:
-        save_policy(self.model, self.directory, self.algo)
-        if self.venv is not None:
-            save_normalization(self.venv, self.directory / "normalization.npz")
+        with replace_model_files(self.directory, BEST_FILES) as staging:
+            save_policy(self.model, staging, self.algo)
+            if self.venv is not None:
+                save_normalization(self.venv, staging / "normalization.npz")
         return True
 
 
@@ -402,10 +404,6 @@ def train(
         evaluation.on_step()  # writes eval/evaluations.npz, best/ and best_model.zip
     wall = time.perf_counter() - start
     model.logger.close()  # flush and close logs/progress.csv
-    save_policy(model, out, algo)  # what radial_ibvs_agents.load reads: no pickles
-    model.save(out / "model.zip")  # for SB3 users and --resume (read without its pickles)
-    if isinstance(venv, VecNormalize):
-        save_normalization(venv, out / "normalization.npz")
     curve = _learning_curve(out / "eval" / "evaluations.npz")
     metadata = {
         "algo": algo,
@@ -425,11 +423,17 @@ def train(
         "env_steps_per_s": round(steps / wall, 1),
         "learning_curve": curve,
     }
-    write_json(out / "metadata.json", metadata)
-    if (best_dir / "best_model.zip").is_file():
-        shutil.copy(best_dir / "best_model.zip", out / "best_model.zip")
-    if curve:
-        _plot_learning_curve(curve, out / "learning_curve.png", f"{algo} on {config.env_id}")
+    with replace_model_files(out) as staging:  # the model's files, all at once
+        save_policy(model, staging, algo)  # what radial_ibvs_agents.load reads: no pickles
+        model.save(staging / "model.zip")  # for SB3 users and --resume (read without pickles)
+        if isinstance(venv, VecNormalize):
+            save_normalization(venv, staging / "normalization.npz")
+        write_json(staging / "metadata.json", metadata)
+        if (best_dir / "best_model.zip").is_file():
+            shutil.copy(best_dir / "best_model.zip", staging / "best_model.zip")
+        if curve:
+            title = f"{algo} on {config.env_id}"
+            _plot_learning_curve(curve, staging / "learning_curve.png", title)
     return out
 
 
@@ -537,16 +541,8 @@ def export_model(
     folder = src / "best" if use_best else src
     if not has_policy_files(folder):
         raise ValueError(f"{folder} has no policy.safetensors and policy.json to export")
-    out.mkdir(parents=True, exist_ok=True)
-    for name in (WEIGHTS, DESCRIPTION, "normalization.npz"):
-        if (folder / name).is_file():
-            shutil.copy(folder / name, out / name)
     zip_path = src / "best" / "best_model.zip" if use_best else src / "model.zip"
     metadata = json.loads((src / "metadata.json").read_text())
-    if zip_path.is_file():  # for SB3 users; radial_ibvs_agents.load never reads it
-        shutil.copy(zip_path, out / "model.zip")
-    elif metadata.get("algo") == "ppo":  # e.g. a DAgger student: built from its weights
-        _write_sb3_zip(folder, out / "model.zip")
     metadata["shipped"] = "best model of the validation evaluations" if use_best else "last model"
     if metadata.get("trained_by") == "dagger":
         metadata["shipped"] = (
@@ -566,8 +562,16 @@ def export_model(
         metadata["residual_trained"], metadata["residual"] = trained.as_dict(), deployed
     if note:
         metadata["export_note"] = note
-    write_json(out / "metadata.json", metadata)
-    for name in ("logs/progress.csv", "learning_curve.png"):
-        if (src / name).is_file():
-            shutil.copy(src / name, out / Path(name).name)
+    with replace_model_files(out) as staging:  # all at once: no stale file of an older export
+        for name in (WEIGHTS, DESCRIPTION, "normalization.npz"):
+            if (folder / name).is_file():
+                shutil.copy(folder / name, staging / name)
+        if zip_path.is_file():  # for SB3 users; radial_ibvs_agents.load never reads it
+            shutil.copy(zip_path, staging / "model.zip")
+        elif metadata.get("algo") == "ppo":  # e.g. a DAgger student: built from its weights
+            _write_sb3_zip(folder, staging / "model.zip")
+        write_json(staging / "metadata.json", metadata)
+        for name in ("logs/progress.csv", "learning_curve.png"):
+            if (src / name).is_file():
+                shutil.copy(src / name, staging / Path(name).name)
     return out
