@@ -24,7 +24,14 @@ from radial_ibvs_gym.envs.missed import MissedDetections
 from radial_ibvs_gym.envs.rules import SUCCESS_TOLERANCES, TASK_TOLERANCE
 from radial_ibvs_gym.envs.slots import Slots
 from radial_ibvs_gym.features import pair_indices
-from radial_ibvs_gym.limits import MAX_SUBSTEPS
+from radial_ibvs_gym.limits import (
+    MAX_GOAL_FRAMES,
+    MAX_HOLD_STEPS,
+    MAX_IMAGE_BLUR,
+    MAX_IMAGE_NOISE,
+    MAX_IMAGE_SIZE,
+    MAX_SUBSTEPS,
+)
 from radial_ibvs_gym.physics import BACKENDS, RobotConfig
 from radial_ibvs_gym.scenarios import Scenario, ScenarioConfig, load_scenario
 
@@ -37,10 +44,8 @@ __all__ = [
     "UnknownArgumentError",
 ]
 
-#: the most noisy frames the goal image may average (``goal_image_frames``)
-MAX_GOAL_IMAGE_FRAMES = 1000
-#: the most steps in a row within the tolerances a success may ask (``success_hold_steps``)
-MAX_HOLD_STEPS = 600
+#: the most noisy frames the goal image may average (``goal_image_frames``; ``limits``)
+MAX_GOAL_IMAGE_FRAMES = MAX_GOAL_FRAMES
 
 
 class UnknownArgumentError(TypeError, ValueError):
@@ -206,6 +211,7 @@ class ParkingConfig:
                 f"goal_image_frames must be in 1..{MAX_GOAL_IMAGE_FRAMES}, got "
                 f"{self.goal_image_frames!r}"
             )
+        self._check_image()
         if self.physics == "pymunk":
             substeps = self.control_dt / self.physics_dt
             if substeps > MAX_SUBSTEPS:
@@ -249,7 +255,25 @@ class ParkingConfig:
         _ = self.slots, self.robot  # max_landmarks and the robot checked now
         self.scenario.check_reach(self.start_reach, self.tasks, "start_reach")
 
+    def _check_image(self) -> None:
+        """Bound what a rendered frame costs (``measurement="detected"``; ``limits``)."""
+        size = self.image_size
+        if isinstance(size, bool) or not isinstance(size, int) or not 16 <= size <= MAX_IMAGE_SIZE:
+            raise ValueError(f"image_size must be an integer in 16..{MAX_IMAGE_SIZE}, got {size!r}")
+        for name, top, unit in (
+            ("image_blur", MAX_IMAGE_BLUR, "pixels"),
+            ("image_noise", MAX_IMAGE_NOISE, "grey levels"),
+        ):
+            value = getattr(self, name)
+            if (
+                isinstance(value, bool)
+                or not isinstance(value, int | float)
+                or not (math.isfinite(value) and 0 <= value <= top)
+            ):
+                raise ValueError(f"{name} must be in [0, {top:g}] {unit}, got {value!r}")
+
     # --- what follows from the arguments -------------------------------------------------------
+
     @property
     def tasks(self) -> list[int] | None:
         """The tasks episodes are drawn from: ``[task]``, or ``None`` (any)."""

@@ -27,6 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from radial_ibvs_gym._validation import as_float_array, check_finite, check_last_dim
 from radial_ibvs_gym.camera import CatadioptricCamera
+from radial_ibvs_gym.limits import MAX_IMAGE_BLUR, MAX_IMAGE_NOISE, MAX_IMAGE_SIZE
 from radial_ibvs_gym.vision.room_rays import SHADE, VerticalHits, shade_rays
 from radial_ibvs_gym.vision.room_scene import RoomScene
 
@@ -55,10 +56,10 @@ class ImageQuality:
     exposure: float = 1.0
 
     def __post_init__(self) -> None:
-        for name in ("noise_std", "blur_sigma"):
+        for name, top in (("noise_std", MAX_IMAGE_NOISE), ("blur_sigma", MAX_IMAGE_BLUR)):
             value = getattr(self, name)
-            if not (math.isfinite(value) and value >= 0):
-                raise ValueError(f"{name} must be >= 0, got {value!r}")
+            if not (math.isfinite(value) and 0 <= value <= top):
+                raise ValueError(f"{name} must be in [0, {top:g}] (limits), got {value!r}")
         if not (math.isfinite(self.exposure) and self.exposure > 0):
             raise ValueError(f"exposure must be positive, got {self.exposure!r}")
 
@@ -81,8 +82,8 @@ class OmniRenderer:
     """
 
     def __init__(self, camera: CatadioptricCamera, size: int = 256, camera_height: float = 1.8):
-        if not (isinstance(size, int) and 16 <= size <= 4096):
-            raise ValueError(f"size must be an integer in 16..4096, got {size!r}")
+        if not (isinstance(size, int) and 16 <= size <= MAX_IMAGE_SIZE):
+            raise ValueError(f"size must be an integer in 16..{MAX_IMAGE_SIZE}, got {size!r}")
         if not (math.isfinite(camera_height) and camera_height > 0):
             raise ValueError(f"camera_height must be positive, got {camera_height!r}")
         self.camera, self.size, self.camera_height = camera, size, float(camera_height)

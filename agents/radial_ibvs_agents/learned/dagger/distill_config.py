@@ -12,10 +12,18 @@ from pathlib import Path
 from typing import Any
 
 from radial_ibvs_agents.analytic import make_analytic
+from radial_ibvs_agents.learned.files.policy_size import check_net_arch
 from radial_ibvs_agents.learned.networks import EXTRACTORS
 from radial_ibvs_agents.learned.networks.extractors import ERROR_KEYS
 from radial_ibvs_agents.learned.networks.history import HistoryConfig
 from radial_ibvs_gym.config import read_yaml_with_base
+from radial_ibvs_gym.limits import (
+    MAX_BATCH_SIZE,
+    MAX_DATASET_SIZE,
+    MAX_EPISODES,
+    MAX_NUM_ENVS,
+    MAX_ROLLOUT_SIZE,
+)
 from radial_ibvs_gym.registration import check_env_id
 
 __all__ = ["ACTIVATIONS", "EXTRACTORS", "PRIVILEGED", "DaggerConfig", "load_dagger_config"]
@@ -138,6 +146,13 @@ class DaggerConfig:
 
 _INTS = ("n_envs", "rounds", "steps_per_round", "updates_per_round", "batch_size")
 _INTS_MORE = ("dataset_size", "eval_episodes", "eval_seed")
+#: the upper bounds of the integers (:mod:`radial_ibvs_gym.limits`), by key, and their names
+_INT_LIMITS = {
+    "n_envs": ("MAX_NUM_ENVS", MAX_NUM_ENVS),
+    "batch_size": ("MAX_BATCH_SIZE", MAX_BATCH_SIZE),
+    "dataset_size": ("MAX_DATASET_SIZE", MAX_DATASET_SIZE),
+    "eval_episodes": ("MAX_EPISODES", MAX_EPISODES),
+}
 
 
 def load_dagger_config(path: Path | str) -> DaggerConfig:
@@ -166,7 +181,15 @@ def load_dagger_config(path: Path | str) -> DaggerConfig:
             least = 0 if key == "eval_seed" else 1
             if isinstance(value, bool) or not isinstance(value, int) or value < least:
                 raise ValueError(f"{where}.{key} must be an integer >= {least}, got {value!r}")
+            if key in _INT_LIMITS and value > _INT_LIMITS[key][1]:
+                name, top = _INT_LIMITS[key]
+                raise ValueError(f"{where}.{key} = {value} exceeds {name} = {top}")
             values[key] = value
+    steps = values.get("steps_per_round", DaggerConfig.steps_per_round)
+    if steps > MAX_ROLLOUT_SIZE:  # all robots together
+        raise ValueError(
+            f"{where}.steps_per_round = {steps} exceeds MAX_ROLLOUT_SIZE = {MAX_ROLLOUT_SIZE}"
+        )
     for key, low, high in (("beta", 0.0, 1.0), ("beta_decay", 0.0, 1.0)):
         if key in section:
             value = section[key]
@@ -231,10 +254,9 @@ def load_dagger_config(path: Path | str) -> DaggerConfig:
         values["activation"] = section["activation"]
     if "net_arch" in section:
         arch = section["net_arch"]
-        if not isinstance(arch, list) or not all(
-            isinstance(n, int) and not isinstance(n, bool) and n > 0 for n in arch
-        ):
+        if not isinstance(arch, list):
             raise ValueError(f"{where}.net_arch must be a list of positive integers, got {arch!r}")
+        check_net_arch(arch, f"{where}.net_arch")
         values["net_arch"] = tuple(arch)
     if "error_keys" in section:
         keys = section["error_keys"]

@@ -25,23 +25,22 @@ from pathlib import Path
 from typing import Any
 
 from radial_ibvs_agents.untrusted import MAX_JSON_BYTES, UntrustedFileError, check_inside
+from radial_ibvs_gym.limits import MAX_LAYER_WIDTH, MAX_LAYERS
 
 __all__ = [
+    "MAX_LAYERS",
     "MAX_LAYER_WIDTH",
     "MAX_SPACE_ELEMENTS",
     "check_finite_weights",
+    "check_net_arch",
     "check_policy_size",
     "check_space_size",
     "check_weight_types",
     "read_weight_shapes",
 ]
 
-#: the widest layer (units) a stored policy may describe
-MAX_LAYER_WIDTH = 8192
 #: the most numbers one observation or action space may hold (a ``Discrete``'s ``n`` too)
 MAX_SPACE_ELEMENTS = 1 << 22
-#: the most layers one ``net_arch`` list may hold
-MAX_LAYERS = 64
 
 #: safetensors' dtype names, as torch names them
 _DTYPES = {
@@ -135,6 +134,41 @@ def _integers(value: Any, where: str) -> list[tuple[str, int]]:
             raise ValueError(f"{where}: {len(value)} items exceed MAX_LAYERS = {MAX_LAYERS}")
         return [i for n, v in enumerate(value) for i in _integers(v, f"{where}[{n}]")]
     return []
+
+
+def check_net_arch(value: Any, where: str) -> None:
+    """Check a ``net_arch`` asked for by a config, before any network is built.
+
+    Parameters
+    ----------
+    value
+        A list of layer widths, or a mapping of such lists (``pi``, ``vf``, ``qf``).
+    where
+        The config and key, for the message.
+
+    Raises
+    ------
+    ValueError
+        Naming the key and the value: a width that is not an integer in 1..``MAX_LAYER_WIDTH``,
+        or more than ``MAX_LAYERS`` layers (:mod:`radial_ibvs_gym.limits`).
+    """
+    heads = value.items() if isinstance(value, dict) else [("", value)]
+    for head, widths in heads:
+        name = f"{where}[{head!r}]" if head else where
+        if not isinstance(widths, list | tuple):
+            raise ValueError(f"{name} must be a list of layer widths, got {str(widths)[:80]}")
+        if len(widths) > MAX_LAYERS:
+            raise ValueError(f"{name}: {len(widths)} layers exceed MAX_LAYERS = {MAX_LAYERS}")
+        for width in widths:
+            if (
+                isinstance(width, bool)
+                or not isinstance(width, int)
+                or not 1 <= width <= MAX_LAYER_WIDTH
+            ):
+                raise ValueError(
+                    f"{name} holds {str(width)[:40]}: each width must be an integer in "
+                    f"1..MAX_LAYER_WIDTH = {MAX_LAYER_WIDTH}"
+                )
 
 
 def _matrices(widths: Any) -> int:

@@ -19,6 +19,8 @@ from typing import Any
 import numpy as np
 from gymnasium import spaces
 
+from radial_ibvs_gym.limits import MAX_HISTORY_FRAMES
+
 __all__ = [
     "HistoryConfig",
     "HistoryPolicy",
@@ -56,8 +58,15 @@ class HistoryConfig:
         if unknown:
             raise ValueError(f"{where}: unknown key(s) {unknown}; valid: ['frames', 'keys']")
         frames = data.get("frames", cls.frames)
-        if isinstance(frames, bool) or not isinstance(frames, int) or not 2 <= frames <= 32:
-            raise ValueError(f"{where}.frames must be an integer in [2, 32], got {frames!r}")
+        if (
+            isinstance(frames, bool)
+            or not isinstance(frames, int)
+            or not 2 <= frames <= MAX_HISTORY_FRAMES
+        ):
+            raise ValueError(
+                f"{where}.frames must be an integer in [2, {MAX_HISTORY_FRAMES}] "
+                f"(MAX_HISTORY_FRAMES), got {frames!r}"
+            )
         keys = data.get("keys", list(cls.keys))
         names_ok = isinstance(keys, list | tuple) and all(isinstance(k, str) for k in keys)
         if not names_ok or not keys:

@@ -15,11 +15,19 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from radial_ibvs_agents.learned.files.policy_size import check_net_arch
 from radial_ibvs_agents.learned.networks import TRAIN_EXTRACTORS
 from radial_ibvs_agents.learned.networks.residual import ResidualConfig
 from radial_ibvs_agents.learned.training.curriculum import CurriculumConfig
 from radial_ibvs_agents.learned.training.fine_tune import FineTuneConfig
 from radial_ibvs_gym.config import read_yaml_with_base
+from radial_ibvs_gym.limits import (
+    MAX_BATCH_SIZE,
+    MAX_BUFFER_SIZE,
+    MAX_EPISODES,
+    MAX_NUM_ENVS,
+    MAX_ROLLOUT_SIZE,
+)
 from radial_ibvs_gym.registration import check_env_id
 
 __all__ = ["TRAIN_EXTRACTORS", "TrainConfig", "load_train_config", "parse_kwargs_string"]
@@ -174,10 +182,10 @@ def _schedule(value: Any, where: str) -> Any:
 #: ``low`` included; kinds: "int" (whole numbers), "float" (numbers), "rate" (a number or a
 #: ``lin_<x>`` schedule, already a function here)
 _HYPERPARAMETERS: dict[str, tuple[str, float, float]] = {
-    "n_steps": ("int", 1, 1 << 24),
-    "batch_size": ("int", 1, 1 << 24),
+    "n_steps": ("int", 1, MAX_ROLLOUT_SIZE),
+    "batch_size": ("int", 1, MAX_BATCH_SIZE),
     "n_epochs": ("int", 1, 10_000),
-    "buffer_size": ("int", 1, 1 << 27),
+    "buffer_size": ("int", 1, MAX_BUFFER_SIZE),
     "learning_starts": ("int", 0, 1 << 40),
     "gradient_steps": ("int", -1, 1 << 20),
     "policy_delay": ("int", 1, 1 << 20),
@@ -189,6 +197,14 @@ _HYPERPARAMETERS: dict[str, tuple[str, float, float]] = {
     "tau": ("float", 0.0, 1.0),
     "vf_coef": ("float", 0.0, 1e6),
     "max_grad_norm": ("float", 1e-12, 1e12),
+}
+
+
+#: the hyper-parameters bounded by a limit of :mod:`radial_ibvs_gym.limits`, and its name
+_LIMITS = {
+    "n_steps": "MAX_ROLLOUT_SIZE",
+    "batch_size": "MAX_BATCH_SIZE",
+    "buffer_size": "MAX_BUFFER_SIZE",
 }
 
 
@@ -210,7 +226,9 @@ def _check_hyperparameter(key: str, value: Any, where: str) -> Any:
     if not (whole and low <= value <= high):
         what = "an integer" if kind == "int" else "a number"
         what += " or a 'lin_<x>' schedule" if kind == "rate" else ""
-        raise ValueError(f"{where}.{key} must be {what} in [{low:g}, {high:g}], got {value!r}")
+        bounds = f"[{low:g}, {high:,}]" if kind == "int" else f"[{low:g}, {high:g}]"
+        named = f" ({_LIMITS[key]})" if key in _LIMITS else ""
+        raise ValueError(f"{where}.{key} must be {what} in {bounds}{named}, got {value!r}")
     return int(value) if kind == "int" else value
 
 
@@ -223,12 +241,20 @@ def _replay_buffer_class(name: Any, where: str) -> type:
     return HerReplayBuffer
 
 
-def _positive_int(section: Mapping[str, Any], key: str, default: int, where: str) -> int:
+def _positive_int(
+    section: Mapping[str, Any],
+    key: str,
+    default: int,
+    where: str,
+    limit: tuple[str, int] | None = None,
+) -> int:
     value = section.get(key, default)
     if isinstance(value, float) and value.is_integer():
         value = int(value)
     if not isinstance(value, int) or isinstance(value, bool) or value <= 0:
         raise ValueError(f"{where}.{key} must be a positive integer, got {value!r}")
+    if limit is not None and value > limit[1]:
+        raise ValueError(f"{where}.{key} = {value} exceeds {limit[0]} = {limit[1]}")
     return value
 
 
@@ -290,6 +316,10 @@ def load_train_config(path: Path | str, env_id: str | None = None) -> TrainConfi
     policy_kwargs = section.get("policy_kwargs", {})
     if isinstance(policy_kwargs, str):
         policy_kwargs = parse_kwargs_string(policy_kwargs, f"{where}.policy_kwargs")
+    if not isinstance(policy_kwargs, Mapping):
+        raise ValueError(f"{where}.policy_kwargs must be 'dict(...)', got {policy_kwargs!r}")
+    if "net_arch" in policy_kwargs:
+        check_net_arch(policy_kwargs["net_arch"], f"{where}.policy_kwargs.net_arch")
     algo_kwargs = {
         key: _schedule(value, f"{where}.{key}")
         for key, value in section.items()
@@ -307,12 +337,18 @@ def load_train_config(path: Path | str, env_id: str | None = None) -> TrainConfi
         if isinstance(value, float) and not math.isfinite(value):
             raise ValueError(f"{where}.{key} must be finite, got {value!r}")
         algo_kwargs[key] = _check_hyperparameter(key, value, where)
+    n_envs = _positive_int(section, "n_envs", 1, where, ("MAX_NUM_ENVS", MAX_NUM_ENVS))
+    if n_envs * algo_kwargs.get("n_steps", 1) > MAX_ROLLOUT_SIZE:
+        raise ValueError(
+            f"{where}: n_envs * n_steps = {n_envs} * {algo_kwargs['n_steps']} transitions per "
+            f"rollout exceed MAX_ROLLOUT_SIZE = {MAX_ROLLOUT_SIZE}"
+        )
     env_kwargs = meta.get("env_kwargs") or {}
     if not isinstance(env_kwargs, Mapping):
         raise ValueError(f"{path.name}[radial_ibvs_gym].env_kwargs must be a mapping")
     return TrainConfig(
         env_id=env_id,
-        n_envs=_positive_int(section, "n_envs", 1, where),
+        n_envs=n_envs,
         n_timesteps=_positive_int(section, "n_timesteps", 1_000_000, where),
         policy=str(section.get("policy", "MultiInputPolicy")),
         normalize=normalize,
@@ -320,7 +356,13 @@ def load_train_config(path: Path | str, env_id: str | None = None) -> TrainConfi
         algo_kwargs=algo_kwargs,
         env_kwargs=dict(env_kwargs),
         eval_freq=_positive_int(meta, "eval_freq", 25_000, f"{path.name}[radial_ibvs_gym]"),
-        eval_episodes=_positive_int(meta, "eval_episodes", 20, f"{path.name}[radial_ibvs_gym]"),
+        eval_episodes=_positive_int(
+            meta,
+            "eval_episodes",
+            20,
+            f"{path.name}[radial_ibvs_gym]",
+            ("MAX_EPISODES", MAX_EPISODES),
+        ),
         eval_seed=int(meta.get("eval_seed", 10_000)),
         residual=_residual(meta.get("residual"), f"{path.name}[radial_ibvs_gym].residual"),
         curriculum=None
