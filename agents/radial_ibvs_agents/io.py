@@ -15,7 +15,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-__all__ = ["json_safe", "write_atomic", "write_csv", "write_json"]
+__all__ = ["json_safe", "write_atomic", "write_csv", "write_json", "write_through"]
 
 
 def write_atomic(path: Path | str, data: str | bytes) -> Path:
@@ -46,6 +46,24 @@ def write_atomic(path: Path | str, data: str | bytes) -> Path:
         Path(tmp).unlink(missing_ok=True)
         raise
     return path
+
+
+def write_through(path: Path | str, data: str | bytes) -> Path:
+    """Rewrite an existing file all at once, as :func:`write_atomic`, keeping what it is.
+
+    A symbolic link is written through (its target is rewritten; the link stays a link), and
+    the file keeps its permission bits (a 0600 page stays 0600).
+
+    Returns
+    -------
+    pathlib.Path
+        The file written (the link's target).
+    """
+    target = Path(path).resolve() if Path(path).is_symlink() else Path(path)
+    mode = target.stat().st_mode & 0o7777
+    write_atomic(target, data)
+    os.chmod(target, mode)
+    return target
 
 
 def _umask() -> int:

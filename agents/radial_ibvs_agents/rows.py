@@ -10,7 +10,6 @@ column is added here (and, if it is a new measure of the episode, on the log).
 
 from __future__ import annotations
 
-import json
 import math
 from collections import defaultdict
 from collections.abc import Iterable, Mapping, Sequence
@@ -20,6 +19,7 @@ from typing import Any
 import numpy as np
 
 from radial_ibvs_agents.rollouts.log import EpisodeLog
+from radial_ibvs_agents.untrusted import read_json
 from radial_ibvs_gym.envs.rules import SUCCESS_TOLERANCES, TASK_TOLERANCE
 
 __all__ = [
@@ -28,10 +28,16 @@ __all__ = [
     "JUDGING",
     "LIMIT",
     "LIMITS",
+    "MAX_ROWS",
+    "MAX_ROWS_BYTES",
+    "MAX_ROW_ENTRIES",
+    "MAX_ROW_TEXT",
+    "ROW_SCHEMA",
     "RUN_FIELDS",
     "TASK_TOLERANCE",
     "TOLERANCES",
     "add_limits",
+    "check_row",
     "csv_row",
     "episode_row",
     "group_rows",
@@ -282,6 +288,100 @@ def success_summaries(
     return out
 
 
+#: the most rows a report reads, and the bytes of one ``episodes.json``
+MAX_ROWS = 5_000_000
+MAX_ROWS_BYTES = 2 << 30
+#: the longest text a row may hold (a name, an end), and the most entries of one of its maps
+MAX_ROW_TEXT = 500
+MAX_ROW_ENTRIES = 64
+
+#: the row schema: each known key and the kinds of value it takes ("text", "int", "number",
+#: "bool", "none", "pose": three numbers, "flags": names to booleans, "numbers": names to
+#: numbers); the keys a row must have are :data:`REPORT_KEYS`
+ROW_SCHEMA: dict[str, tuple[str, ...]] = {
+    "policy": ("text",),
+    "suite": ("text",),
+    "variant": ("text",),
+    "scenario": ("text", "none"),
+    "physics": ("text", "none"),
+    "end": ("text", "none"),
+    "task": ("int", "none"),
+    "seed": ("int", "none"),
+    "steps": ("int",),
+    "compute_batch": ("int",),
+    "success_hold_steps": ("int",),
+    "success": ("bool",),
+    "collision": ("bool",),
+    "final_position_error_m": ("number",),
+    "final_heading_error_deg": ("number",),
+    "time_s": ("number",),
+    "path_length_m": ("number",),
+    "compute_us_per_step": ("number",),
+    "control_effort": ("number", "none"),
+    "smoothness": ("number", "none"),
+    "start_pose": ("pose",),
+    "goal_pose": ("pose",),
+    "success_by_tolerance": ("flags",),
+    "camera_imperfections": ("numbers",),
+}
+
+
+def _is_kind(value: Any, kind: str) -> bool:
+    """Whether ``value`` is of one kind of :data:`ROW_SCHEMA` (bounded, no nesting)."""
+    number = isinstance(value, int | float) and not isinstance(value, bool)
+    if kind == "text":
+        return isinstance(value, str) and len(value) <= MAX_ROW_TEXT and value.isprintable()
+    if kind == "int":
+        return isinstance(value, int) and not isinstance(value, bool)
+    if kind == "number":
+        return number and math.isfinite(value)
+    if kind == "bool":
+        return isinstance(value, bool)
+    if kind == "none":
+        return value is None
+    if kind == "pose":
+        return (
+            isinstance(value, list)
+            and len(value) == 3
+            and all(_is_kind(v, "number") for v in value)
+        )
+    if kind in ("flags", "numbers"):
+        inner = "bool" if kind == "flags" else "number"
+        return (
+            isinstance(value, dict)
+            and len(value) <= MAX_ROW_ENTRIES
+            and all(_is_kind(k, "text") and _is_kind(v, inner) for k, v in value.items())
+        )
+    return False
+
+
+def check_row(row: Any, where: str) -> None:
+    """Check one row read from a file against :data:`ROW_SCHEMA` (rows are data).
+
+    A known key must hold a value of its kinds (``"success": "false"`` is refused, never read
+    as true); any other key (a job's extra) a short text, a number, a boolean or ``None``. Text
+    is printable and at most :data:`MAX_ROW_TEXT` characters; maps hold at most
+    :data:`MAX_ROW_ENTRIES` entries.
+
+    Raises
+    ------
+    ValueError
+        Naming ``where`` (the file and row), the key and the value (shortened).
+    """
+    if not isinstance(row, dict):
+        raise ValueError(f"{where}: expected an episode object, got {type(row).__name__}")
+    if len(row) > 4 * MAX_ROW_ENTRIES:
+        raise ValueError(f"{where}: more than {4 * MAX_ROW_ENTRIES} keys")
+    for key, value in row.items():
+        kinds = ROW_SCHEMA.get(key, ("text", "int", "number", "bool", "none"))
+        if not (_is_kind(key, "text") and any(_is_kind(value, kind) for kind in kinds)):
+            shown = repr(value)
+            shown = shown if len(shown) <= 80 else shown[:77] + "..."
+            raise ValueError(
+                f"{where}: {str(key)[:80]!r} must be {' or '.join(kinds)}, got {shown}"
+            )
+
+
 def load_rows(paths: Sequence[Path | str]) -> list[dict[str, Any]]:
     """Read and join the rows of several ``episodes.json`` files.
 
@@ -295,15 +395,15 @@ def load_rows(paths: Sequence[Path | str]) -> list[dict[str, Any]]:
     rows: list[dict[str, Any]] = []
     holds: dict[int, Path] = {}
     for path in map(Path, paths):
-        if not path.is_file():
+        if not path.exists():
             raise ValueError(f"{path}: no such file (an episodes.json of radial-ibvs benchmark)")
-        try:
-            data = json.loads(path.read_text())
-        except (OSError, UnicodeDecodeError, json.JSONDecodeError) as error:
-            raise ValueError(f"{path}: not a JSON file of benchmark rows: {error}") from None
-        if not isinstance(data, list) or not all(isinstance(r, dict) for r in data):
+        data = read_json(path, None, MAX_ROWS_BYTES, "MAX_ROWS_BYTES")  # a regular file, bounded
+        if not isinstance(data, list):
             raise ValueError(f"{path}: expected a JSON list of episode objects")
+        if len(rows) + len(data) > MAX_ROWS:
+            raise ValueError(f"{path}: more than MAX_ROWS = {MAX_ROWS} rows in all")
         for k, row in enumerate(data):
+            check_row(row, f"{path}: row {k}")
             missing = [key for key in REPORT_KEYS if key not in row]
             if missing:
                 raise ValueError(f"{path}: row {k} has no {missing}")

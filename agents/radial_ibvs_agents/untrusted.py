@@ -131,8 +131,13 @@ def _depth(value: Any) -> int:
     return deepest
 
 
-def read_json(path: Path | str, folder: Path | str | None, limit: int = MAX_JSON_BYTES) -> Any:
-    """Parse a JSON file of at most ``limit`` bytes and :data:`MAX_JSON_DEPTH` levels.
+def read_json(
+    path: Path | str,
+    folder: Path | str | None,
+    limit: int = MAX_JSON_BYTES,
+    name: str = "MAX_JSON_BYTES",
+) -> Any:
+    """Parse a JSON file of at most ``limit`` bytes (``name``) and :data:`MAX_JSON_DEPTH` levels.
 
     Raises
     ------
@@ -140,7 +145,7 @@ def read_json(path: Path | str, folder: Path | str | None, limit: int = MAX_JSON
         As :func:`read_bytes`, or for text that is not JSON or nests too deep (Python's own
         parser would end in a ``RecursionError``).
     """
-    data = read_bytes(path, folder, limit, "MAX_JSON_BYTES")
+    data = read_bytes(path, folder, limit, name)
     try:
         value = json.loads(data)
     except RecursionError:  # Python's parser gives up near 1,000 levels

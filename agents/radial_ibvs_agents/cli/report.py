@@ -183,7 +183,7 @@ def _write_into(args: argparse.Namespace, rows: list[dict[str, Any]], renames: d
 
     from radial_ibvs_agents.experiments.report import replace_block
     from radial_ibvs_agents.experiments.tables import results_table
-    from radial_ibvs_agents.io import write_atomic
+    from radial_ibvs_agents.io import write_through
 
     ends = args.variants is None  # a headline (chosen rows) without the second table
     table = results_table(rows, args.suites, args.policies, renames, args.variants, ends)
@@ -192,5 +192,5 @@ def _write_into(args: argparse.Namespace, rows: list[dict[str, Any]], renames: d
     text = f"{table}\n<sub>Generated from {n} benchmark episodes by `{command}`.</sub>\n"
     if not args.block.replace("-", "").replace("_", "").isalnum():
         raise ValueError(f"--block must be letters, digits, '-' or '_', got {args.block!r}")
-    write_atomic(args.into, replace_block(args.into, args.block, text).encode())
+    write_through(args.into, replace_block(args.into, args.block, text).encode())
     print(f"updated {args.into}")

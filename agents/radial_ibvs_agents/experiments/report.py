@@ -17,7 +17,12 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["dagger_curves", "read_rounds", "replace_block"]
+from radial_ibvs_agents.untrusted import read_bytes
+
+__all__ = ["MAX_PAGE_BYTES", "dagger_curves", "read_rounds", "replace_block"]
+
+#: the largest page ``report --into`` regenerates a block of
+MAX_PAGE_BYTES = 16 << 20
 
 
 def read_rounds(directory: Path | str) -> tuple[np.ndarray, np.ndarray, int | None]:
@@ -98,13 +103,20 @@ def replace_block(path: Path | str, name: str, text: str) -> str:
     The markers are ``<!-- name:start -->`` and ``<!-- name:end -->`` (HTML comments, invisible
     in Markdown); what lies between them is generated, the rest of the file is kept.
 
+    The file is read as data: a regular file (a FIFO or a device is refused, never opened), of
+    at most ``MAX_PAGE_BYTES``.
+
     Raises
     ------
     ValueError
-        If the file lacks the markers (naming it and them).
+        If the file lacks the markers (naming it and them), is not a regular file, or is too
+        large.
     """
     start, end = f"<!-- {name}:start -->", f"<!-- {name}:end -->"
-    content = Path(path).read_text()
+    try:
+        content = read_bytes(path, None, MAX_PAGE_BYTES, "MAX_PAGE_BYTES").decode()
+    except UnicodeDecodeError:
+        raise ValueError(f"{path}: not UTF-8 text") from None
     if (
         content.count(start) != 1
         or content.count(end) != 1

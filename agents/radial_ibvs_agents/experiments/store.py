@@ -33,6 +33,7 @@ import numpy as np
 from radial_ibvs_agents import POLICY_NAMES, make_policy
 from radial_ibvs_agents.experiments.jobs import Job, JobResult
 from radial_ibvs_agents.io import write_atomic
+from radial_ibvs_agents.rows import check_row
 from radial_ibvs_agents.untrusted import read_json, sha256_file
 from radial_ibvs_gym import __version__
 
@@ -213,6 +214,11 @@ def _check(result: JobResult) -> str | None:
         return None if not rows and isinstance(result.skipped, str) else "skipped, with rows"
     if len(rows) != job.episodes:
         return f"{len(rows)} rows for {job.episodes} episodes"
+    for k, row in enumerate(rows):  # rows are data: the schema of every row read
+        try:
+            check_row(row, f"row {k}")
+        except ValueError as error:
+            return str(error)[:200]
     seeds = [job.variant.seed_offset + k for k in range(job.first, job.first + job.episodes)]
     if [row.get("seed") for row in rows] != seeds:
         return f"seeds are not {seeds[0]}..{seeds[-1]}"

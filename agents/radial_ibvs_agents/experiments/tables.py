@@ -15,8 +15,10 @@ out:
 from __future__ import annotations
 
 import csv
+import html
 import io
 import math
+import re
 from collections import Counter, defaultdict
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -46,6 +48,35 @@ __all__ = [
 
 #: the fewest episodes for which a cell shows its 95 % interval
 MIN_EPISODES_FOR_INTERVAL = 20
+
+#: names written as they are (in a code span, for policies); any other is escaped
+_PLAIN = re.compile(r"[\w .,:;/()+=%*#~-]*")
+#: a CSV cell that a spreadsheet would read as a formula starts with one of these
+_FORMULA = ("=", "+", "-", "@", "\t", "\r")
+
+
+def md_text(value: Any) -> str:
+    """Return a name as Markdown text that renders as itself (rows are data).
+
+    ``&``, ``<`` and ``>`` become entities (no HTML, no ``<!-- marker -->`` goes into a page
+    as is), ``|`` and backquotes are escaped, so a name can neither break a table nor end a
+    generated block.
+    """
+    text = str(value)
+    if _PLAIN.fullmatch(text):
+        return text
+    return html.escape(text, quote=False).replace("|", "\\|").replace("`", "&#96;")
+
+
+def md_code(value: Any) -> str:
+    """Return a name in a code span, or escaped as :func:`md_text` where a span cannot hold it."""
+    text = str(value)
+    return f"`{text}`" if _PLAIN.fullmatch(text) else md_text(text)
+
+
+def csv_text(value: Any) -> Any:
+    """Return a CSV cell that no spreadsheet reads as a formula (text starting ``= + - @``)."""
+    return "'" + value if isinstance(value, str) and value.startswith(_FORMULA) else value
 
 
 def _ends(summary: dict[str, Any]) -> str:
@@ -89,7 +120,8 @@ def markdown_table(summaries: Sequence[dict[str, Any]]) -> str:
             f"{loose[k]['rate']:.0%}" if k in loose else "-" for k in ("10cm/5deg", "30cm/15deg")
         ]
         lines.append(
-            f"| {s['suite']} | {s['variant']} | {s['physics']} | {s['policy']} "
+            f"| {md_text(s['suite'])} | {md_text(s['variant'])} | {md_text(s['physics'])} "
+            f"| {md_text(s['policy'])} "
             f"| {s['success_rate']:.0%} "
             f"| {lo:.0%}-{hi:.0%} | {_limit(s)} | {_limit(s, 'image_goal_limit')} "
             f"| {_ends(s)} | {cells[0]} | {cells[1]} "
@@ -193,7 +225,7 @@ def results_table(
     if not order or not shown:
         return "(no rows for these suites and policies)\n"
     lines = [
-        "| suite: variant | episodes | " + " | ".join(f"`{p}`" for p in shown) + " |",
+        "| suite: variant | episodes | " + " | ".join(md_code(p) for p in shown) + " |",
         "|---|---|" + "---|" * len(shown),
     ]
     for key in order:
@@ -210,12 +242,15 @@ def results_table(
                 lo, hi = wilson_interval(wins, len(episodes))
                 rate += f" ({100 * lo:.0f}-{100 * hi:.0f})"
             out.append(rate)
-        lines.append(f"| {key[0]}: {key[1]} | {n} | " + " | ".join(out) + " |")
+        name = f"{md_text(key[0])}: {md_text(key[1])}"
+        lines.append(f"| {name} | {n} | " + " | ".join(out) + " |")
     if not ends:
         return "\n".join(lines) + "\n"
     lines += [
         "",
-        "| how episodes ended (collision / time-out / lost) | | " + " | ".join(shown) + " |",
+        "| how episodes ended (collision / time-out / lost) | | "
+        + " | ".join(md_text(p) for p in shown)
+        + " |",
         "|---|---|" + "---|" * len(shown),
     ]
     for key in order:
@@ -223,7 +258,7 @@ def results_table(
         for policy in shown:
             counts = Counter(str(r.get("end")) for r in cells[key].get(policy, []))
             out.append(f"{counts['collision']} / {counts['time-out']} / {counts['lost']}")
-        lines.append(f"| {key[0]}: {key[1]} | | " + " | ".join(out) + " |")
+        lines.append(f"| {md_text(key[0])}: {md_text(key[1])} | | " + " | ".join(out) + " |")
     return "\n".join(lines) + "\n"
 
 
@@ -283,11 +318,13 @@ def seeds_table(
             values = [per[p] for p in policies if p in per]
             cells = " ".join(f"{v:.0%}" for v in values)
             if len(values) < len(policies):
-                out.append(f"| {suite} | {variant} | {cells} ({len(values)} seeds) | - | - |")
+                name = f"{md_text(suite)} | {md_text(variant)}"
+                out.append(f"| {name} | {cells} ({len(values)} seeds) | - | - |")
                 continue
             tasks.append(values)
             point, low, high = iqm_interval([values])
-            out.append(f"| {suite} | {variant} | {cells} | {point:.0%} | {low:.0%}-{high:.0%} |")
+            name = f"{md_text(suite)} | {md_text(variant)}"
+            out.append(f"| {name} | {cells} | {point:.0%} | {low:.0%}-{high:.0%} |")
         if tasks:
             point, low, high = iqm_interval(tasks)
             out.append(
@@ -321,9 +358,8 @@ def success_csv(summaries: Sequence[Mapping[str, Any]]) -> str:
     for s in summaries:
         lo, hi = s["success_ci95"]
         wins = round(s["success_rate"] * s["episodes"])
-        writer.writerow(
-            [s["suite"], s["variant"], s["policy"], s["episodes"], wins, s["success_rate"], lo, hi]
-        )
+        names = [csv_text(s[k]) for k in ("suite", "variant", "policy")]
+        writer.writerow([*names, s["episodes"], wins, s["success_rate"], lo, hi])
     return buffer.getvalue()
 
 
@@ -347,7 +383,8 @@ def timings_table(rows: Sequence[Mapping[str, Any]], workers: int) -> str:
         share = r["seconds"] / total if total else 0.0
         resumed = f" ({r['resumed']} chunks resumed)" if r["resumed"] else ""
         lines.append(
-            f"| {r['suite']}{resumed} | {r['episodes']} | {r['seconds']:.0f} | {share:.0%} "
+            f"| {md_text(r['suite'])}{resumed} | {r['episodes']} | {r['seconds']:.0f} "
+            f"| {share:.0%} "
             f"| {r['seconds'] / max(workers, 1):.0f} s |"
         )
     lines.append(f"| all | {sum(r['episodes'] for r in rows)} | {total:.0f} | 100% "
@@ -357,4 +394,5 @@ def timings_table(rows: Sequence[Mapping[str, Any]], workers: int) -> str:
 
 def write_rows_csv(path: Path | str, rows: Sequence[Mapping[str, Any]]) -> Path:
     """Write rows as ``episodes.csv``: the columns :data:`radial_ibvs_agents.rows.CSV_COLUMNS`."""
-    return write_csv(path, [csv_row(row) for row in rows], CSV_COLUMNS)
+    cells = [{k: csv_text(v) for k, v in csv_row(row).items()} for row in rows]
+    return write_csv(path, cells, CSV_COLUMNS)
