@@ -17,6 +17,8 @@ limit                  value       what it bounds
 ``MAX_CONFIG_NODES``   100,000     values (scalars, lists, mappings) of a YAML config
 ``MAX_WORLD_M``        1000 m      every room side, coordinate and radius of a scenario,
                                    so that every distance and reward term stays finite
+``MIN_ROBOT_M``        1 mm        the robot's length, width, wheel base and wheel
+                                   radius (a body pymunk can simulate)
 ``MAX_SUBSTEPS``       1000        physics sub-steps per control period
                                    (``control_dt / physics_dt``, pymunk backend)
 ``MAX_HOLD_STEPS``     600         steps a success may ask the pose held
@@ -69,6 +71,7 @@ __all__ = [
     "MAX_ROLLOUT_SIZE",
     "MAX_SUBSTEPS",
     "MAX_WORLD_M",
+    "MIN_ROBOT_M",
 ]
 
 MAX_LANDMARKS = 256
@@ -93,3 +96,4 @@ MAX_ROLLOUT_SIZE = 1 << 24
 MAX_BUFFER_SIZE = 1 << 24
 MAX_DATASET_SIZE = 1 << 24
 MAX_EPISODES = 100_000
+MIN_ROBOT_M = 0.001

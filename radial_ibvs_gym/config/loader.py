@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import functools
 import re
@@ -118,8 +119,8 @@ def read_yaml(source: str | Path, where: str | None = None) -> Any:
         return loader.get_single_data()
     except ConfigError as error:
         raise ConfigError(f"{where}: {error}") from None
-    except yaml.YAMLError as error:
-        raise ConfigError(f"{where}: not valid YAML: {_clip(str(error))}") from None
+    except yaml.YAMLError as error:  # the problem and where, never the file's text
+        raise ConfigError(f"{where}: not valid YAML: {_yaml_problem(error)}") from None
     except (ValueError, OverflowError, RecursionError) as error:  # e.g. a 5,000-digit integer
         line = loader.line + 1 if loader is not None else "?"
         raise ConfigError(
@@ -149,7 +150,7 @@ def merge_overlay(base: Mapping[str, Any], overlay: Mapping[str, Any]) -> dict[s
     return out
 
 
-def read_yaml_with_base(path: str | Path) -> Any:
+def read_yaml_with_base(path: str | Path, *, any_base: bool = False) -> Any:
     """Read a YAML config that may be an overlay of another one (a top-level ``base:`` key).
 
     ``base: other.yaml`` names the config this one varies, by a path relative to this file's
@@ -158,11 +159,17 @@ def read_yaml_with_base(path: str | Path) -> Any:
     :func:`read_yaml` reads it. At most :data:`~radial_ibvs_gym.limits.MAX_CONFIG_BASES` files
     are chained; a file that names itself, directly or not, is refused.
 
+    A base must lie (links resolved) beside the config that names it (in its folder or below),
+    or in the package's ``configs/`` or the repository's ``research/configs/`` trees: so
+    ``research/configs``' ``../../configs/agents/...`` holds, while an absolute path or one
+    that climbs out of those trees is refused, unless ``any_base`` allows it.
+
     Raises
     ------
     ConfigError
-        For a bad ``base`` value, a missing base file, a cycle, too long a chain, or any error
-        of :func:`read_yaml`; the message names the file and the value.
+        For a bad ``base`` value, a missing base file, a cycle, too long a chain, a base out of
+        the trees above, or any error of :func:`read_yaml`; the message names the file and the
+        value.
     """
     chain: list[Path] = []
     layers: list[Mapping[str, Any]] = []
@@ -181,8 +188,9 @@ def read_yaml_with_base(path: str | Path) -> Any:
         if not isinstance(data, Mapping) or "base" not in data:
             if len(layers) == 0:
                 return data
-            if not isinstance(data, Mapping):
-                raise ConfigError(f"{current}: a base: file must be a mapping, got {short(data)}")
+            if not isinstance(data, Mapping):  # its type, never its text
+                kind = type(data).__name__
+                raise ConfigError(f"{current}: a base: file must be a mapping, got a {kind}")
             break
         base = data["base"]
         if not isinstance(base, str) or not base.endswith((".yaml", ".yml")):
@@ -192,12 +200,37 @@ def read_yaml_with_base(path: str | Path) -> Any:
         layers.append({k: v for k, v in data.items() if k != "base"})
         following = current.parent / base
         if not following.is_file():
-            raise ConfigError(f"{current}: base {base!r}: no such file ({following})")
+            raise ConfigError(f"{current}: base {short(base)}: no such file ({following})")
+        if not any_base:
+            _check_base(current, base, following)
         current = following
     merged: dict[str, Any] = dict(data)
     for layer in reversed(layers):
         merged = merge_overlay(merged, layer)
     return merged
+
+
+def _check_base(config: Path, base: str, following: Path) -> None:
+    """Refuse a ``base:`` that is absolute or leaves the trees a base may come from."""
+    if Path(base).is_absolute():
+        raise ConfigError(f"{config}: base {short(base)} is an absolute path: give it relative")
+    trees = [config.resolve().parent]
+    with contextlib.suppress(FileNotFoundError):
+        package = configs_dir().resolve()
+        trees += [package, package.parent / "research" / "configs"]
+    if not any(following.resolve().is_relative_to(tree) for tree in trees):
+        raise ConfigError(
+            f"{config}: base {short(base)} leaves the folders a base may come from (beside "
+            "the config, configs/, research/configs/)"
+        )
+
+
+def _yaml_problem(error: Exception) -> str:
+    """Return a YAML error's problem and position, not the text PyYAML quotes with it."""
+    problem = getattr(error, "problem", None) or type(error).__name__
+    mark = getattr(error, "problem_mark", None)
+    where = f" at line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
+    return _clip(f"{problem}{where}")
 
 
 @functools.cache
@@ -233,6 +266,18 @@ def _strict_loader_class() -> type:
                 return super().compose_node(parent, index)
             finally:
                 self.depth -= 1
+
+        def construct_mapping(self, node: Any, deep: bool = False) -> Any:
+            seen: set[Any] = set()
+            for key_node, _ in node.value:
+                key = self.construct_object(key_node, deep=True)
+                if isinstance(key, list | dict):
+                    continue  # unhashable: PyYAML's own error names it
+                if key in seen:
+                    line = key_node.start_mark.line + 1
+                    raise ConfigError(f"line {line}: duplicate key {short(key)}")
+                seen.add(key)
+            return super().construct_mapping(node, deep=deep)
 
     resolvers = {
         first: [

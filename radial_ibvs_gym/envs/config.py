@@ -193,7 +193,9 @@ class ParkingConfig:
             "task", "max_landmarks", "min_visible", "goal_image_frames", "success_hold_steps",
         ):  # fmt: skip
             value = getattr(self, name)
-            if value is not None and (isinstance(value, bool) or not isinstance(value, int)):
+            if value is None and name in ("task", "max_landmarks"):
+                continue  # None: drawn per episode, or no slots
+            if isinstance(value, bool) or not isinstance(value, int):
                 raise ValueError(f"{name} must be an integer, got {value!r}")
         self._check_before_loading({f.name: getattr(self, f.name) for f in _CHECKED})
         n = self.scenario.n_landmarks

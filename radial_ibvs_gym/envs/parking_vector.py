@@ -127,8 +127,8 @@ class ParkingVectorEnv(VectorEnv):
                 "measurement='detected' renders and detects images per env and is not batched; "
                 "use gym.make_vec(..., vectorization_mode='sync')"
             )
-        if isinstance(autoreset_mode, str):
-            if autoreset_mode not in _MODES:
+        if not isinstance(autoreset_mode, AutoresetMode):
+            if not isinstance(autoreset_mode, str) or autoreset_mode not in _MODES:
                 raise ValueError(
                     f"unknown autoreset_mode {autoreset_mode!r}; valid: {sorted(_MODES)}"
                 )

@@ -12,6 +12,11 @@ from typing import Any, Literal
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from radial_ibvs_gym.limits import MAX_WORLD_M, MIN_ROBOT_M
+
+#: the robot's dimensions (bounded by MIN_ROBOT_M and MAX_WORLD_M: pymunk needs a body)
+_SIZES = ("length", "width", "wheel_base", "wheel_radius")
+
 __all__ = [
     "RobotConfig",
     "limit_command",
@@ -66,6 +71,11 @@ class RobotConfig:
             may_be_inf = f.name.endswith("_accel")
             if not ok or (math.isinf(value) and not may_be_inf) or math.isnan(value):
                 raise ValueError(f"robot {f.name} must be a positive number, got {value!r}")
+            if f.name in _SIZES and not MIN_ROBOT_M <= value <= MAX_WORLD_M:
+                raise ValueError(
+                    f"robot {f.name} must be in [{MIN_ROBOT_M}, {MAX_WORLD_M:g}] m "
+                    f"(MIN_ROBOT_M, MAX_WORLD_M), got {value!r}"
+                )
         if self.saturation not in ("scale", "clip"):
             raise ValueError(f"saturation must be 'scale' or 'clip', got {self.saturation!r}")
 

@@ -342,6 +342,11 @@ def load_scenario(name_or_path: str | Path, **overrides: Any) -> Scenario:
     ValueError
         For a scene where too few landmarks are visible at a fixed goal or start.
     """
+    if not isinstance(name_or_path, str | Path):
+        raise ConfigError(
+            f"scenario must be a shipped name or the path of a YAML file, got a "
+            f"{type(name_or_path).__name__}: {short(name_or_path)}"
+        )
     path = Path(name_or_path)
     if path.suffix not in (".yaml", ".yml"):
         path = config_path("scenarios", str(name_or_path))

@@ -11,6 +11,7 @@ the reset and one per step.
 
 from __future__ import annotations
 
+import re
 import warnings
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -54,6 +55,10 @@ def stack_infos(infos: Sequence[Mapping[str, Any]]) -> dict[str, Any]:
         elif not isinstance(first, str):
             out[key] = np.stack([np.asarray(i[key]) for i in infos])
     return out
+
+
+#: Minari's dataset ids, kept to plain names: ``namespace/name-vN`` or ``name-vN``
+_DATASET_ID = re.compile(r"(?:[A-Za-z0-9_-]+/)?[A-Za-z0-9_][A-Za-z0-9_.-]*-v[0-9]+")
 
 
 def dataset_id_for(policy: str, scenario: str) -> str:
@@ -113,6 +118,11 @@ def collect(
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     dataset_id = dataset_id or dataset_id_for(policy_name, scenario)
+    if not _DATASET_ID.fullmatch(dataset_id):  # before any episode runs: no folder outside out
+        raise ValueError(
+            f"dataset id {dataset_id[:80]!r} must be NAMESPACE/NAME-vN or NAME-vN (letters, "
+            "digits, '-', '_' and '.'; no '..' and no leading '/')"
+        )
     if (out / dataset_id).exists():
         raise ValueError(f"{out / dataset_id} exists: remove it or give another --out")
     policy = make_policy(policy_name, trust_pickle=trust_model)

@@ -22,6 +22,7 @@ from __future__ import annotations
 import functools
 import hashlib
 import json
+import os
 import re
 from collections.abc import Callable
 from dataclasses import is_dataclass
@@ -93,12 +94,44 @@ def _model_digest(policy: str) -> str | None:
             directory = directory.parent
         if directory.is_dir():
             total = hashlib.sha256()
-            for path in sorted(p for p in directory.rglob("*") if p.is_file()):
+            for path in _model_files(directory):
                 stat = path.stat()
                 digest = _file_digest(str(path), str(directory), stat.st_mtime_ns, stat.st_size)
                 total.update(f"{path.relative_to(directory).as_posix()}\0{digest}\0".encode())
             return total.hexdigest()
     return None
+
+
+#: how deep a model's folder may nest, and how many files it may hold (a digest reads them all)
+MAX_MODEL_DEPTH, MAX_MODEL_FILES = 16, 10_000
+
+
+def _model_files(directory: Path) -> list[Path]:
+    """Every regular file of a model's folder, sorted: walked without recursion, bounded.
+
+    Raises
+    ------
+    ValueError
+        For a folder nested deeper than ``MAX_MODEL_DEPTH`` or holding more than
+        ``MAX_MODEL_FILES`` files (naming it).
+    """
+    files: list[Path] = []
+    stack = [(directory, 0)]
+    while stack:
+        folder, depth = stack.pop()
+        if depth > MAX_MODEL_DEPTH:
+            raise ValueError(f"{directory}: nested deeper than MAX_MODEL_DEPTH = {MAX_MODEL_DEPTH}")
+        with os.scandir(folder) as entries:
+            for entry in entries:
+                if entry.is_dir(follow_symlinks=False):
+                    stack.append((Path(entry.path), depth + 1))
+                elif entry.is_file():
+                    files.append(Path(entry.path))
+                    if len(files) > MAX_MODEL_FILES:
+                        raise ValueError(
+                            f"{directory}: more than MAX_MODEL_FILES = {MAX_MODEL_FILES} files"
+                        )
+    return sorted(files)
 
 
 @functools.lru_cache(maxsize=256)

@@ -50,7 +50,7 @@ __all__ = [
 MIN_EPISODES_FOR_INTERVAL = 20
 
 #: names written as they are (in a code span, for policies); any other is escaped
-_PLAIN = re.compile(r"[\w .,:;/()+=%*#~-]*")
+_PLAIN = re.compile(r"[\w .,:;/()+=%*#~'\"@\[\]-]*")
 #: a CSV cell that a spreadsheet would read as a formula starts with one of these
 _FORMULA = ("=", "+", "-", "@", "\t", "\r")
 

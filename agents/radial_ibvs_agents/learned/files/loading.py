@@ -31,7 +31,7 @@ from radial_ibvs_agents.learned.files.model_files import (
 from radial_ibvs_agents.untrusted import check_archive, read_json
 from radial_ibvs_gym.registration import check_env_id
 
-__all__ = ["MODELS_DIR", "LearnedPolicy", "load", "shipped_models"]
+__all__ = ["MODELS_DIR", "LearnedPolicy", "PickleLoadWarning", "load", "shipped_models"]
 
 #: where the shipped models live (inside the package, so wheels carry them)
 MODELS_DIR = Path(__file__).resolve().parents[1] / "models"
@@ -332,6 +332,10 @@ def load(name_or_path: str | Path, *, trust_pickle: bool = False) -> Any:
     return learned
 
 
+class PickleLoadWarning(UserWarning):
+    """A model is being loaded through pickles, as asked (``trust_pickle``, ``--trust-model``)."""
+
+
 #: hyper-parameters that only one algorithm's ``model.zip`` ``data`` holds
 _ALGO_MARKS = (
     ("top_quantiles_to_drop_per_net", "tqc"),
@@ -358,8 +362,21 @@ def _algo_of_zip(zip_path: Path, label: str) -> str:
 
 
 def _load_sb3_zip(zip_path: Path, metadata: dict[str, Any], label: str) -> Any:
-    """Load a stable-baselines3 ``model.zip`` through its pickles (only when trusted)."""
+    """Load a stable-baselines3 ``model.zip`` through its pickles (only when trusted).
+
+    The archive is checked first (sizes, members: ``check_archive``), and a
+    :class:`PickleLoadWarning` says that a pickle is being loaded.
+    """
     import pickle
+    import warnings
+
+    check_archive(zip_path, zip_path.parent)
+    warnings.warn(
+        f"model {label}: loading {zip_path} through its pickles (trust_pickle / --trust-model): "
+        "it can run code; load only models from a source you trust",
+        PickleLoadWarning,
+        stacklevel=3,
+    )
 
     algos = algorithms()
     algo = metadata.get("algo")

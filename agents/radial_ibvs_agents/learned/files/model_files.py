@@ -19,6 +19,7 @@ from __future__ import annotations
 
 import io
 import json
+import math
 import os
 import zipfile
 from pathlib import Path
@@ -290,7 +291,8 @@ def load_policy(directory: Path | str) -> tuple[Any, dict[str, Any]]:
             raise ValueError("not a JSON object")
         if description.get("format") != FORMAT:
             raise ValueError(f"format {str(description.get('format'))[:60]!r} is not {FORMAT!r}")
-        if description.get("format_version") != FORMAT_VERSION:
+        version = description.get("format_version")
+        if type(version) is not int or version != FORMAT_VERSION:  # not true, not 1.0
             raise ValueError(f"format_version {description.get('format_version')!r} is unknown")
         algo = description["algo"]
         if algo not in algorithms():
@@ -371,7 +373,7 @@ def read_normalization(path: Path | str) -> dict[str, Any]:
     try:
         with np.load(path, allow_pickle=False) as data:
             keys = [k[len("mean/") :] for k in data.files if k.startswith("mean/")]
-            return {
+            read = {
                 "stats": {k: (data[f"mean/{k}"], data[f"var/{k}"]) for k in keys},
                 "counts": {k: float(data[f"count/{k}"]) for k in keys if f"count/{k}" in data},
                 "clip_obs": float(data["clip_obs"]),
@@ -382,5 +384,26 @@ def read_normalization(path: Path | str) -> dict[str, Any]:
                     else None
                 ),
             }
-    except (OSError, KeyError, ValueError, zipfile.BadZipFile) as error:
+    except (OSError, KeyError, ValueError, TypeError, zipfile.BadZipFile) as error:
         raise ValueError(f"{path} is corrupt: {str(error)[:300]}") from None
+    return _check_statistics(path, read)
+
+
+def _check_statistics(path: Path | str, read: dict[str, Any]) -> dict[str, Any]:
+    """Refuse observation statistics that would normalise into NaN or infinity (naming the file).
+
+    Raises
+    ------
+    ValueError
+        For a mean or variance that is not finite, a negative variance, shapes that differ, or
+        a ``clip_obs`` or ``epsilon`` that is not a positive number.
+    """
+    for key, (mean, var) in read["stats"].items():
+        if np.shape(mean) != np.shape(var):
+            raise ValueError(f"{path}: the statistics of {key!r} have shapes that differ")
+        if not (np.isfinite(mean).all() and np.isfinite(var).all() and (var >= 0).all()):
+            raise ValueError(f"{path}: the statistics of {key!r} are not finite, or negative")
+    for name in ("clip_obs", "epsilon"):
+        if not (math.isfinite(read[name]) and read[name] > 0):
+            raise ValueError(f"{path}: {name} must be a positive number, got {read[name]!r}")
+    return read

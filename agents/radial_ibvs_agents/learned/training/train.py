@@ -55,6 +55,7 @@ from radial_ibvs_agents.learned.training.tolerance_eval import (
 from radial_ibvs_agents.learned.training.zoo_config import TRAIN_EXTRACTORS, TrainConfig
 from radial_ibvs_agents.plotting import save_figure
 from radial_ibvs_agents.untrusted import check_archive, read_json
+from radial_ibvs_gym.config import did_you_mean
 
 __all__ = ["ALGOS", "export_model", "save_normalization", "train"]
 
@@ -260,6 +261,34 @@ def _with_extractor(config: TrainConfig, space: Any) -> tuple[dict[str, Any], li
     return kwargs, normalised
 
 
+#: the algorithm's arguments that train() sets itself (a config may not)
+_SET_BY_TRAIN = ("policy", "env", "seed", "policy_kwargs", "device", "verbose", "_init_setup_model")
+
+
+def _check_algo_kwargs(config: TrainConfig, algo: str) -> None:
+    """Refuse a config keyword the algorithm does not take, or one ``train`` sets itself.
+
+    Raises
+    ------
+    ValueError
+        Naming the config file, the key and the keywords the algorithm takes.
+    """
+    import inspect
+
+    accepted = set(inspect.signature(ALGOS[algo].__init__).parameters) - {"self", "kwargs"}
+    where = config.source.get("file", "the config")
+    for key in config.algo_kwargs:
+        if key in _SET_BY_TRAIN:
+            what = "--seed" if key == "seed" else "train itself"
+            raise ValueError(f"{where}: {key!r} is set by {what}, not by the config")
+        if key not in accepted:
+            valid = sorted(accepted - set(_SET_BY_TRAIN))
+            raise ValueError(
+                f"{where}: {algo} takes no keyword {key!r}{did_you_mean(key, valid)}; "
+                f"valid: {valid}"
+            )
+
+
 def _make_venv(env_id: str, n_envs: int, seed: int, env_kwargs: dict[str, Any]) -> Any:
     """Make the native batched ``VecEnv`` where the id has one, else SB3's ``DummyVecEnv``."""
     from radial_ibvs_agents.learned.training.sb3_vec_env import make_vec_env
@@ -326,6 +355,7 @@ def train(
     steps = config.n_timesteps if total_timesteps is None else int(total_timesteps)
     if steps <= 0:
         raise ValueError(f"total_timesteps must be positive, got {steps!r}")
+    _check_algo_kwargs(config, algo)  # before anything is built or written
     out = Path(out_dir)
     out.mkdir(parents=True, exist_ok=True)
     import torch

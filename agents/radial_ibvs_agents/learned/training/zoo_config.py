@@ -147,10 +147,19 @@ def _literal(node: Any, where: str, text: str) -> Any:
     if isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name):
         if node.value.id in ("nn", "th.nn", "torch.nn"):
             from torch import nn
+            from torch.nn.modules import activation
 
-            if not hasattr(nn, node.attr):
-                raise ValueError(f"{where}: torch.nn has no {node.attr!r} (in {text!r})")
-            return getattr(nn, node.attr)
+            value = getattr(nn, node.attr, None)
+            if not (
+                isinstance(value, type)
+                and issubclass(value, nn.Module)
+                and value.__module__ == activation.__name__
+            ):
+                raise ValueError(
+                    f"{where}: nn.{node.attr} is not an activation of torch.nn (nn.ReLU, "
+                    f"nn.Tanh...), in {text!r}"
+                )
+            return value
     if isinstance(node, ast.Call) and isinstance(node.func, ast.Name) and node.func.id == "dict":
         return parse_kwargs_string(ast.unparse(node), where)
     try:
