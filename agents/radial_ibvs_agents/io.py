@@ -44,7 +44,8 @@ def write_atomic(path: Path | str, data: str | bytes) -> Path:
         os.replace(tmp, path)
     except OSError as error:  # a full or read-only disk: name the file
         Path(tmp).unlink(missing_ok=True)
-        raise OSError(error.errno, f"cannot write {path}: {error.strerror}") from None
+        reason = error.strerror or str(error)
+        raise OSError(error.errno, f"cannot write {path}: {reason}") from None
     except BaseException:
         Path(tmp).unlink(missing_ok=True)
         raise

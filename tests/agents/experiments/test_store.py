@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import shutil
 import signal
 import subprocess
@@ -50,7 +51,8 @@ def test_the_scenario_content_is_in_the_key(tmp_path: Path) -> None:
     shutil.copy(configs_dir() / "scenarios" / "paper-lab.yaml", path)
     job = Job("ibvs", _lab(str(path)), 2)
     before = job_key(job)
-    path.write_text(path.read_text() + "\ncamera_height: 1.5\n")
+    text = path.read_text()
+    path.write_text(re.sub(r"(?m)^camera_height: .*$", "camera_height: 1.5", text))
     assert job_key(job) != before
 
 
@@ -74,7 +76,8 @@ def test_a_scenario_edited_during_a_run_changes_the_next_runs_keys(tmp_path: Pat
     job = Job("ibvs", _lab(str(path)), 2)
     running = store.ChunkStore(tmp_path / "out")
     before = running.path(job)
-    path.write_text(path.read_text() + "\ncamera_height: 1.5\n")
+    text = path.read_text()
+    path.write_text(re.sub(r"(?m)^camera_height: .*$", "camera_height: 1.5", text))
     assert running.path(job) == before  # read once, when the run first named the chunk
     assert store.ChunkStore(tmp_path / "out").path(job) != before
 

@@ -5,6 +5,7 @@ and a short PPO run with the student's pose layer. The smoke run of PPO and its 
 from __future__ import annotations
 
 import json
+import os
 from pathlib import Path
 
 import gymnasium as gym
@@ -32,7 +33,7 @@ def test_shipped_config_is_valid_rl_zoo3_format() -> None:
 @pytest.mark.parametrize(
     ("text", "match"),
     [
-        ("dict(net_arch=[64, 64], activation_fn=nn.Nope)", "no 'Nope'"),
+        ("dict(net_arch=[64, 64], activation_fn=nn.Nope)", "nn.Nope is not an activation"),
         ("dict(x=__import__('os'))", "only literals"),
         ("list(1, 2)", "expected 'dict"),
         ("dict(", "cannot parse"),
@@ -77,8 +78,10 @@ def test_ppo_trains_with_the_students_pose_layer(tmp_path: Path) -> None:
     """``extractor: landmark_pose``: the student's extractor, its raw keys not normalised."""
     config = tmp_path / "pose.yaml"
     config.write_text(
-        "base: "
-        + str(Path(__file__).resolve().parents[3] / "configs/agents/ppo_pose_layer.yaml")
+        "base: "  # relative to this config, as a base must be: into the shipped configs
+        + os.path.relpath(
+            Path(__file__).resolve().parents[3] / "configs/agents/ppo_pose_layer.yaml", tmp_path
+        )
         + "\nRadialIBVS/Parking-v0: {n_envs: 4, n_steps: 16, batch_size: 32, n_epochs: 1}\n"
         + "radial_ibvs_gym: {eval_episodes: 1, eval_freq: 64}\n"
     )
