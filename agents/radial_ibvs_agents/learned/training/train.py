@@ -7,8 +7,9 @@ a progress bar, resuming from a checkpoint; the result is a model directory that
 ``policy.json``, ``normalization.npz``, ``metadata.json``), with ``learning_curve.png``, the
 best model in ``best/``, and SB3's own ``model.zip`` for SB3 users and for resuming.
 
-About 500 lines: :func:`train` and the callbacks, resuming and export it needs; the model files
-are in :mod:`radial_ibvs_agents.learned.files.model_files`, the provenance in
+About 600 lines: :func:`train` and the callbacks, checks, resuming and export it needs, which
+share the run's state; the model files are in :mod:`radial_ibvs_agents.learned.files.model_files`
+(written all at once by :mod:`~radial_ibvs_agents.learned.files.model_dir`), the provenance in
 :mod:`radial_ibvs_agents.learned.files.provenance`.
 """
 
