@@ -12,6 +12,13 @@ $(BIN)/python:
 setup: $(BIN)/python
 	$(BIN)/pip install -q torch==2.13.0 -e ".[dev]"
 
+# the tools of the targets below, installed on first use (a fresh clone has none of them)
+$(BIN)/pytest $(BIN)/ruff $(BIN)/mypy: $(BIN)/python
+	$(BIN)/pip install -q torch==2.13.0 -e ".[dev]"
+
+$(BIN)/sphinx-build: $(BIN)/python
+	$(BIN)/pip install -q torch==2.13.0 -e ".[docs]"
+
 demo: setup
 	$(BIN)/radial-ibvs demo
 
@@ -19,27 +26,27 @@ test: setup
 	$(BIN)/python -m pytest
 
 # the fast subset (no training, no notebooks, no wheel build): a few minutes
-test-fast:
+test-fast: $(BIN)/pytest
 	$(BIN)/python -m pytest -q -m "not slow"
 
 # the property tests with new random draws, HYPOTHESIS_RUNS times over (CI draws the same
 # examples every run: derandomised); a failure prints the draw to pin with @example
 HYPOTHESIS_RUNS ?= 10
-test-random:
+test-random: $(BIN)/pytest
 	for i in $$(seq $(HYPOTHESIS_RUNS)); do \
 		HYPOTHESIS_PROFILE=random $(BIN)/python -m pytest -q -p no:cacheprovider \
 			$$(grep -rl "from hypothesis" tests --include="*.py") || exit 1; \
 	done
 
-lint:
+lint: $(BIN)/ruff
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
 
-format:
+format: $(BIN)/ruff
 	$(BIN)/ruff format .
 	$(BIN)/ruff check --fix .
 
-type:
+type: $(BIN)/mypy
 	$(BIN)/mypy
 
 bench:
@@ -54,5 +61,5 @@ clean:
 	rm -rf $(VENV) build dist *.egg-info .pytest_cache .mypy_cache .ruff_cache .hypothesis outputs
 
 # The documentation site: Sphinx, furo, MyST; warnings are errors. Built into build/docs.
-docs:
+docs: $(BIN)/sphinx-build
 	$(BIN)/sphinx-build -E -W --keep-going -q -b html docs build/docs

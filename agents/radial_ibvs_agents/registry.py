@@ -14,6 +14,7 @@ from typing import Any, Protocol
 import numpy as np
 
 from radial_ibvs_agents.analytic import ANALYTIC_POLICIES
+from radial_ibvs_gym.config import did_you_mean
 
 __all__ = ["POLICY_NAMES", "Policy", "RandomPolicy", "make_policy"]
 
@@ -156,4 +157,7 @@ def make_policy(name: str, *, trust_pickle: bool = False, **kwargs: Any) -> Poli
         raise ValueError(f"the policy {name!r} is now called {RENAMED[name]!r}")
     valid = [*POLICY_NAMES, *shipped_models()]
     hint = f"; for the folder of that name, give its path: ./{name}" if Path(name).exists() else ""
-    raise ValueError(f"unknown policy {name!r}; valid: {valid} or a model directory's path{hint}")
+    close = did_you_mean(name, valid)
+    raise ValueError(
+        f"unknown policy {name!r}{close}; valid: {valid} or a model directory's path{hint}"
+    )

@@ -58,7 +58,7 @@ class ParkingRenderer:
         cam = scenario.camera
         k = cam.intrinsics
         colors = matplotlib.colormaps["tab10"](np.arange(len(episode.landmarks)) % 10)
-        self.figure = Figure(figsize=(10, 5), dpi=64)
+        self.figure = Figure(figsize=(10, 5), dpi=64, layout="constrained")
         self.canvas = FigureCanvasAgg(self.figure)
         top, omni = self.figure.subplots(1, 2)
         w, d = episode.room
@@ -109,7 +109,9 @@ class ParkingRenderer:
         omni.set_aspect("equal")
         omni.set_axis_off()
         omni.set_title("omnidirectional image (x: goal image)")
-        self.figure.tight_layout()
+        # the layout once (titles inside the frame), then frozen: a frame redraws no layout
+        self.canvas.draw()
+        self.figure.set_layout_engine("none")
 
     def _pixels(self, pose: np.ndarray, camera: Any) -> np.ndarray:
         p_cam = world_to_camera(self.episode.landmarks, pose, self.scenario.config.camera_height)

@@ -551,3 +551,18 @@ def test_the_goal_frames_projected_together_are_the_frames_taken_one_by_one() ->
     np.testing.assert_array_equal(points, np.stack([x for x, _ in frames]))
     np.testing.assert_array_equal(visible, np.stack([v for _, v in frames]))
     assert visible.any() and not visible.all()
+
+
+def test_every_title_of_a_rendered_frame_lies_inside_it() -> None:
+    # the titles were cut off at the top of every frame (and of the README's GIF)
+    env = gym.make("RadialIBVS/Parking-v0", render_mode="rgb_array", physics="kinematic")
+    env.reset(seed=0)
+    frame = env.render()
+    figure = env.unwrapped._renderer.figure
+    renderer = env.unwrapped._renderer.canvas.get_renderer()
+    height, width = frame.shape[:2]
+    for axes in figure.axes:
+        box = axes.title.get_window_extent(renderer)
+        assert axes.get_title() and 0 <= box.y0 and box.y1 <= height, axes.get_title()
+        assert 0 <= box.x0 and box.x1 <= width, axes.get_title()
+    env.close()

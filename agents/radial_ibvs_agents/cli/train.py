@@ -62,6 +62,13 @@ def run(args: argparse.Namespace) -> int:
     overrides = parse_env_kwargs(args.env_kwarg)
     if overrides:
         config = dataclasses.replace(config, env_kwargs={**config.env_kwargs, **overrides})
+    steps = config.n_timesteps if args.total_timesteps is None else args.total_timesteps
+    print(  # at once: a run shows no bar when its output is not a terminal
+        f"training {args.algo} on {config.env_id} for {int(steps):,} steps with "
+        f"{config.n_envs} envs into {args.out} (evaluations every {config.eval_freq:,} steps; "
+        f"the log: {args.out}/logs/progress.csv)",
+        flush=True,
+    )
     out = train(
         config,
         args.out,

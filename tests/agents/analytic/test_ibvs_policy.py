@@ -220,6 +220,8 @@ def test_registry_builds_every_contract_name_and_rejects_unknown_ones() -> None:
         assert (state is not None) == (name in stateful), name
     with pytest.raises(ValueError, match="unknown policy 'ppo-nothing'"):
         make_policy("ppo-nothing")
+    with pytest.raises(ValueError, match=r"'ibvss' \(did you mean 'ibvs'\?\)"):
+        make_policy("ibvss")
 
 
 def test_random_policy_is_seeded() -> None:

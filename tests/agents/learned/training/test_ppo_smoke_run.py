@@ -3,6 +3,8 @@ evaluating it, resuming and exporting it, and the errors that name a bad model."
 
 from __future__ import annotations
 
+import contextlib
+import io
 import json
 import shutil
 from pathlib import Path
@@ -27,8 +29,18 @@ def trained(tmp_path_factory: pytest.TempPathFactory) -> Path:
     out = tmp_path_factory.mktemp("train") / "ppo"
     argv = ["train", "--algo", "ppo", "--config", str(CONFIG), "--total-timesteps", "512"]
     argv += ["--out", str(out), "--seed", "3", "--no-progress", "--env-kwarg", "task=1"]
-    assert main(argv) == 0
+    printed = io.StringIO()
+    with contextlib.redirect_stdout(printed):
+        assert main(argv) == 0
+    (out.parent / "stdout.txt").write_text(printed.getvalue())
     return out
+
+
+def test_training_says_what_it_runs_before_it_starts(trained: Path) -> None:
+    # without a terminal there is no bar: the first line says what runs and where it logs
+    first = (trained.parent / "stdout.txt").read_text().splitlines()[0]
+    assert first.startswith("training ppo on RadialIBVS/Parking-v0 for 512 steps with 8 envs")
+    assert "logs/progress.csv" in first
 
 
 def test_training_writes_a_loadable_model_directory(trained: Path) -> None:
