@@ -26,7 +26,7 @@ from radial_ibvs_agents.experiments.store import ChunkStore
 from radial_ibvs_agents.experiments.suites import suite_variants
 from radial_ibvs_agents.experiments.tables import markdown_table, write_rows_csv
 from radial_ibvs_agents.io import write_atomic, write_json
-from radial_ibvs_agents.rows import add_limits, summarise
+from radial_ibvs_agents.rows import add_limits, load_rows, summarise
 from radial_ibvs_gym.envs.config import MAX_HOLD_STEPS
 
 __all__ = [
@@ -227,9 +227,43 @@ def suite_timings(results: Sequence[JobResult]) -> list[dict[str, Any]]:
     return sorted(suites.values(), key=lambda e: -e["seconds"])
 
 
+def earlier_rows(
+    out_dir: Path | str, results: Sequence[JobResult]
+) -> tuple[list[dict[str, Any]], str | None]:
+    """Return the rows of ``out_dir/episodes.json`` that this run did not make, and a note.
+
+    A rerun into the same ``--out`` with fewer policies or suites keeps the other rows of the
+    earlier run (read as data: :func:`~radial_ibvs_agents.rows.load_rows`). They are kept only
+    when judged as this run's rows; otherwise the note says why they are left out.
+    """
+    path = Path(out_dir) / "episodes.json"
+    if not path.is_file():
+        return [], None
+    made = {(r.job.policy, r.job.variant.suite, r.job.variant.label) for r in results}
+    try:
+        rows = load_rows([path])
+    except ValueError as error:
+        return [], f"earlier rows of {path} not kept: {str(error)[:200]}"
+    kept = [r for r in rows if (r["policy"], r["suite"], r["variant"]) not in made]
+    ours = {row.get("success_hold_steps", 1) for result in results for row in result.rows}
+    if kept and ours and {r.get("success_hold_steps", 1) for r in kept} != ours:
+        return [], f"earlier rows of {path} not kept: they were judged differently"
+    if not kept:
+        return [], None
+    policies = sorted({str(r["policy"]) for r in kept})
+    return kept, f"kept {len(kept)} rows of an earlier run in {path} (policies {policies})"
+
+
 def write_outputs(results: Sequence[JobResult], out_dir: Path | str) -> list[Path]:
-    """Write ``episodes.csv``, ``episodes.json``, ``summary.md`` and the plots into ``out_dir``."""
+    """Write ``episodes.csv``, ``episodes.json``, ``summary.md`` and the plots into ``out_dir``.
+
+    ``episodes.json`` and ``episodes.csv`` keep the rows of an earlier run into the same folder
+    that this run did not make (:func:`earlier_rows`); the summary and plots are this run's.
+    """
     out = Path(out_dir)
+    kept, note = earlier_rows(out, results)
+    if note:
+        print(note)
     rows = [row for result in results for row in result.rows]
     summaries = summary_rows(results)
     skipped = [
@@ -241,8 +275,8 @@ def write_outputs(results: Sequence[JobResult], out_dir: Path | str) -> list[Pat
     if skipped:
         table += "\nSkipped:\n" + "\n".join(skipped) + "\n"
     written = [
-        write_rows_csv(out / "episodes.csv", rows),
-        write_json(out / "episodes.json", rows),
+        write_rows_csv(out / "episodes.csv", [*kept, *rows]),
+        write_json(out / "episodes.json", [*kept, *rows]),
         write_atomic(out / "summary.md", table),
     ]
     from radial_ibvs_agents.experiments.benchmark_plots import (

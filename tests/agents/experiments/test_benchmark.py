@@ -307,3 +307,17 @@ def test_success_hold_steps_judges_every_policy_by_a_held_pose():
     for bad in (0, True, 601):
         with pytest.raises(ValueError, match="success_hold_steps"):
             run_benchmark(["ibvs"], ["paper"], success_hold_steps=bad, **kwargs)
+
+
+def test_a_rerun_with_fewer_policies_keeps_the_other_rows(tmp_path: Path, capsys) -> None:
+    out = tmp_path / "bench"
+    argv = ["benchmark", "--suites", "paper-lab", "--episodes", "2", "--workers", "1"]
+    argv += ["--out", str(out), "--no-progress"]
+    assert main([*argv, "--policies", "ibvs", "oracle"]) == 0
+    first = json.loads((out / "episodes.json").read_text())
+    assert main([*argv, "--policies", "ibvs"]) == 0
+    assert "kept" in capsys.readouterr().out
+    second = json.loads((out / "episodes.json").read_text())
+    key = lambda r: (r["policy"], r["suite"], r["variant"], r["seed"])  # noqa: E731
+    assert sorted(map(key, second)) == sorted(map(key, first))  # oracle's rows kept
+    assert {r["policy"] for r in second} == {"ibvs", "oracle"}
