@@ -64,3 +64,31 @@ def test_the_installed_wheel_runs_the_demo_and_a_shipped_model(dist: Path, tmp_p
         [*argv, "--episodes", "2"], check=True, cwd=work, env=env, capture_output=True, text=True
     )
     assert "ppo-residual on paper-lab" in out.stdout and "2 episodes" in out.stdout
+
+
+@pytest.mark.slow
+def test_the_wheel_and_openai_agents_install_side_by_side(dist: Path, tmp_path: Path) -> None:
+    # OpenAI's Agents SDK installs the import name `agents`: this project no longer does
+    wheel = next(dist.glob("*.whl"))
+    venv = tmp_path / "venv"
+    subprocess.run([sys.executable, "-m", "venv", str(venv)], check=True)
+    pip = [str(venv / "bin" / "python"), "-m", "pip", "install", "-q"]
+    subprocess.run(
+        [*pip, "torch==2.13.0", str(wheel), "openai-agents"], check=True, capture_output=True
+    )
+    code = (
+        "import agents, radial_ibvs_agents, radial_ibvs_gym\n"
+        "assert hasattr(agents, 'Agent') and hasattr(agents, 'Runner'), agents.__file__\n"
+        "assert radial_ibvs_agents.make_policy('ibvs').env_kwargs\n"
+        "print(agents.__file__)\n"
+    )
+    env = {**os.environ, "PYTHONPATH": ""}
+    out = subprocess.run(
+        [str(venv / "bin" / "python"), "-c", code],
+        check=True,
+        cwd=tmp_path,
+        env=env,
+        capture_output=True,
+        text=True,
+    )
+    assert "site-packages/agents/__init__.py" in out.stdout
