@@ -180,6 +180,7 @@ def collect(
                 f"arguments {overrides}"
             ),
             data_format="hdf5",
+            jpeg_encoding=False,  # lossless, and images of any channel count (JPEG: 1 or 3)
         )
     env.close()
     return out / dataset_id
