@@ -78,11 +78,13 @@ def test_dagger_starts_from_a_dataset(dataset, tmp_path):
     assert int(row["labels"]) == steps + 64
 
 
+@pytest.mark.slow  # Minari's DataCollector needs jax (minari[create]: the dev extra)
 def test_image_episodes_record_with_the_encoding_the_docs_give(tmp_path, monkeypatch):
     """ParkingImage-v0's two-channel images round-trip through Minari, losslessly."""
     import gymnasium as gym
     import minari
 
+    pytest.importorskip("jax")
     monkeypatch.setenv("MINARI_DATASETS_PATH", str(tmp_path))
     env = gym.make(
         "RadialIBVS/ParkingImage-v0",
