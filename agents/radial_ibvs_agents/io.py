@@ -15,7 +15,7 @@ from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-__all__ = ["json_safe", "write_atomic", "write_csv", "write_json", "write_through"]
+__all__ = ["current_umask", "json_safe", "write_atomic", "write_csv", "write_json", "write_through"]
 
 
 def write_atomic(path: Path | str, data: str | bytes) -> Path:
@@ -40,7 +40,7 @@ def write_atomic(path: Path | str, data: str | bytes) -> Path:
     try:
         with os.fdopen(fd, "wb") as handle:
             handle.write(payload)
-        os.chmod(tmp, 0o666 & ~_umask())  # mkstemp makes 0600; give the usual permissions
+        os.chmod(tmp, 0o666 & ~current_umask())  # mkstemp makes 0600; give the usual permissions
         os.replace(tmp, path)
     except OSError as error:  # a full or read-only disk: name the file
         Path(tmp).unlink(missing_ok=True)
@@ -70,7 +70,8 @@ def write_through(path: Path | str, data: str | bytes) -> Path:
     return target
 
 
-def _umask() -> int:
+def current_umask() -> int:
+    """Return the process's umask (read by setting it and setting it back)."""
     mask = os.umask(0)
     os.umask(mask)
     return mask

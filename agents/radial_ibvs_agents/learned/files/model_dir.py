@@ -31,6 +31,8 @@ from collections.abc import Collection, Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
+from radial_ibvs_agents.io import current_umask
+
 __all__ = ["BEST_FILES", "MODEL_FILES", "replace_model_files"]
 
 #: the files a model folder owns (:func:`replace_model_files` removes those the new model lacks)
@@ -87,7 +89,7 @@ def replace_model_files(
 
 def _swap(staging: Path, out: Path, owned: frozenset[str]) -> None:
     """Make ``staging`` the folder ``out``, keeping the entries of ``out`` it does not own."""
-    os.chmod(staging, 0o777 & ~_umask())  # mkdtemp makes it 0700: the usual permissions
+    os.chmod(staging, 0o777 & ~current_umask())  # mkdtemp makes it 0700: the usual permissions
     if not out.exists():
         os.rename(staging, out)
         return
@@ -116,9 +118,3 @@ def _link_file(source: str | Path, target: str | Path) -> None:
         os.link(source, target)
     except OSError:
         shutil.copy2(source, target)
-
-
-def _umask() -> int:
-    mask = os.umask(0)
-    os.umask(mask)
-    return mask
