@@ -14,12 +14,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import numpy as np
-from numpy.typing import ArrayLike
+from numpy.typing import ArrayLike, NDArray
 
 from radial_ibvs_gym._validation import as_float_array, check_finite, check_last_dim
 from radial_ibvs_gym.camera.catadioptric import CatadioptricCamera, Projection
 
-__all__ = ["forward_batch", "shares_reflection"]
+__all__ = ["forward_batch", "project_shared", "shares_reflection"]
 
 
 def shares_reflection(cameras: Sequence[CatadioptricCamera]) -> bool:
@@ -32,7 +32,10 @@ def shares_reflection(cameras: Sequence[CatadioptricCamera]) -> bool:
     if not cameras:
         return True
     key = cameras[0]._reflection_key
-    return key is not None and all(c._reflection_key == key for c in cameras)
+    # equal keys are mostly the same object (CatadioptricCamera interns them)
+    return key is not None and all(
+        c._reflection_key is key or c._reflection_key == key for c in cameras
+    )
 
 
 def forward_batch(
@@ -80,26 +83,45 @@ def forward_batch(
         if not rows:
             return Projection(np.zeros((0, n, 2)), np.zeros((0, n, 3)), np.zeros((0, n), bool))
         return Projection(*(np.stack(parts) for parts in zip(*rows, strict=True)))
+    return project_shared(cameras, p, generators)
+
+
+def project_shared(
+    cameras: Sequence[CatadioptricCamera],
+    p: NDArray[np.float64],
+    generators: Sequence[np.random.Generator | None],
+) -> Projection:
+    """:func:`forward_batch` for ``K >= 1`` cameras that share the reflection, unchecked.
+
+    The hot path of :func:`~radial_ibvs_gym.camera.measurement.camera_images`: the caller
+    guarantees :func:`shares_reflection`, finite ``(K, N, 3)`` points and ``K`` generators.
+    """
+    k, n = p.shape[:2]
     first = cameras[0]
-    flat = p.reshape(-1, 3)
-    m_m, p_m = first._reflect(flat)
+    m_m, p_m = first._reflect(p.reshape(-1, 3))
     q, visible = first._sensor_rays(m_m, p_m)
-    true = [c.true_intrinsics for c in cameras]
-    fx, fy, mu_x, mu_y = (
-        np.repeat(np.array([getattr(t, name) for t in true]), n)
-        for name in ("fx", "fy", "mu_x", "mu_y")
-    )
+    # each camera's true (fx, fy, mu_x, mu_y), applied as Intrinsics.project does
+    true = np.array([c._true_row for c in cameras])[:, None, :]
     with np.errstate(invalid="ignore", divide="ignore"):
-        x = q[:, :2] / q[:, 2:3]
-        pixels = np.stack([fx * x[..., 0] + mu_x, fy * x[..., 1] + mu_y], -1)
+        x = (q[:, :2] / q[:, 2:3]).reshape(k, n, 2)
+        pixels = true[..., :2] * x + true[..., 2:]
         # the sensor's size is the nominal one, shared
-        visible &= first.true_intrinsics.contains(pixels)
-    pixels = pixels.reshape(k, n, 2)
-    visible = visible.reshape(k, n)
-    for i, (camera, rng) in enumerate(zip(cameras, generators, strict=True)):
-        std = camera.imperfections.pixel_noise_std
-        if rng is not None and std > 0.0:
-            pixels[i] = pixels[i] + rng.normal(0.0, std, (n, 2))
+        visible = visible.reshape(k, n) & first.true_intrinsics.contains(pixels)
+    # each camera's noise from its own generator: rng.normal(0, std) is 0 + std * z with z
+    # drawn as rng.standard_normal draws it, so one multiplication serves every camera
+    stds = [
+        c.imperfections.pixel_noise_std if rng is not None else 0.0
+        for c, rng in zip(cameras, generators, strict=True)
+    ]
+    if any(stds):
+        quiet = np.zeros((n, 2))
+        noise = np.stack(
+            [
+                rng.standard_normal((n, 2)) if std > 0.0 and rng is not None else quiet
+                for std, rng in zip(stds, generators, strict=True)
+            ]
+        )
+        pixels += np.array(stds)[:, None, None] * noise
     pixels = np.where(visible[..., None], pixels, np.nan)
     mirror_points = m_m - np.array([0.0, 0.0, first.camera_z])
     return Projection(pixels, mirror_points.reshape(k, n, 3), visible)

@@ -19,7 +19,7 @@ implements.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from functools import cached_property
+from functools import cached_property, lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -86,6 +86,23 @@ class Imperfections:
 
 #: the nominal camera: no imperfection (compared with, not rebuilt, by ``Imperfections.any``)
 _NOMINAL = Imperfections()
+
+
+#: The visible rim, the blind radius and the boundary rays of each nominal geometry (mirror,
+#: ``camera_z``, lens radius, intrinsics): a vector env rebuilds its cameras every episode, and
+#: these root-finds read the nominal geometry only (the 64 latest kept).
+_Ray = tuple[float, float, float, float, float]
+_LIMITS: dict[tuple[object, ...], tuple[float, float, dict[str, _Ray]]] = {}
+
+
+@lru_cache(maxsize=64)
+def _interned(key: tuple[object, ...]) -> tuple[object, ...]:
+    """Return the first of the equal reflection keys seen (cached), so equal keys are one object.
+
+    The cameras of a vector env are rebuilt each episode; with one key object,
+    :func:`~radial_ibvs_gym.camera.batch.shares_reflection` compares them by identity.
+    """
+    return key
 
 
 class Projection(NamedTuple):
@@ -191,16 +208,25 @@ class CatadioptricCamera:
         #: what fixes the mirror point that reflects a scene point (None: a tilted or shifted
         #: camera); cameras with equal keys share it (camera.batch.forward_batch)
         self._reflection_key = (
-            None if imp.geometric else (mirror, camera_z, self.lens_radius, intrinsics)
+            None if imp.geometric else _interned((mirror, camera_z, self.lens_radius, intrinsics))
         )
-        self._r_max = self._image_limited_rim()
-        self._r_blind = self._blind_radius()
-        if not self._r_blind < self._r_max:
-            raise ValueError(
-                f"nothing is visible: the blind zone (lens_radius={lens_radius!r} m) covers the "
-                "whole mirror image"
-            )
-        self._boundary = self._boundary_rays()
+        t = self.true_intrinsics
+        self._true_row = (t.fx, t.fy, t.mu_x, t.mu_y)  # camera.batch reads it
+        nominal = (mirror, camera_z, self.lens_radius, intrinsics)
+        limits = _LIMITS.get(nominal)
+        if limits is None:
+            self._r_max = self._image_limited_rim()
+            self._r_blind = self._blind_radius()
+            if not self._r_blind < self._r_max:
+                raise ValueError(
+                    f"nothing is visible: the blind zone (lens_radius={lens_radius!r} m) covers "
+                    "the whole mirror image"
+                )
+            limits = (self._r_max, self._r_blind, self._boundary_rays())
+            if len(_LIMITS) >= 64:
+                _LIMITS.pop(next(iter(_LIMITS)))
+            _LIMITS[nominal] = limits
+        self._r_max, self._r_blind, self._boundary = limits
 
     # --- description -------------------------------------------------------------------------
     def __repr__(self) -> str:

@@ -13,9 +13,10 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from radial_ibvs_gym.camera.batch import forward_batch, shares_reflection
+from radial_ibvs_gym._validation import check_finite, check_last_dim
+from radial_ibvs_gym.camera.batch import project_shared, shares_reflection
 from radial_ibvs_gym.camera.catadioptric import CatadioptricCamera
-from radial_ibvs_gym.camera.radial import normalise_pixels
+from radial_ibvs_gym.camera.radial import normalise_pixels, normalise_unchecked
 
 __all__ = ["camera_image", "camera_images"]
 
@@ -82,6 +83,13 @@ def camera_images(
     points, visible
         ``(K, N, 2)`` (zeros where hidden) and ``(K, N)``.
     """
+    if p_cam.ndim != 3 or p_cam.shape[0] != len(cameras) or len(rngs) != len(cameras):
+        raise ValueError(
+            f"p_cam must have shape ({len(cameras)}, N, 3) with {len(cameras)} generators, got "
+            f"{p_cam.shape} and {len(rngs)}"
+        )
+    check_last_dim(p_cam, 3, "p_cam")
+    check_finite(p_cam, "p_cam")
     k, n = p_cam.shape[:2]
     points = np.zeros((k, n, 2))
     visible = np.zeros((k, n), dtype=bool)
@@ -93,10 +101,17 @@ def camera_images(
         for i in batched:
             points[i], visible[i] = camera_image(cameras[i], p_cam[i], rngs[i])
         return points, visible
-    proj = forward_batch(group, p_cam[batched], [rngs[i] for i in batched])
+    every = len(batched) == k
+    proj = project_shared(
+        group, p_cam if every else p_cam[batched], rngs if every else [rngs[i] for i in batched]
+    )
     nominal = group[0].intrinsics  # shared by the group
-    pixels = np.where(proj.visible[..., None], proj.pixels, nominal.principal_point + 1.0)
-    x_n = normalise_pixels(pixels, nominal.principal_point, nominal.rho_f)
-    points[batched] = np.where(proj.visible[..., None], x_n, 0.0)
+    centre = np.asarray(nominal.principal_point, dtype=np.float64)
+    shown = proj.visible[..., None]
+    pixels = np.where(shown, proj.pixels, centre + 1.0)
+    x_n = np.where(shown, normalise_unchecked(pixels, centre, nominal.rho_f), 0.0)
+    if every:
+        return x_n, proj.visible
+    points[batched] = x_n
     visible[batched] = proj.visible
     return points, visible

@@ -119,6 +119,33 @@ def normalise_pixels(
     check_finite(mu, "principal_point")
     if not (np.isfinite(rho_f) and rho_f > 0):
         raise ValueError(f"rho_f must be finite and positive, got {rho_f!r}")
+    return normalise_unchecked(px, mu, rho_f)
+
+
+def normalise_unchecked(
+    px: NDArray[np.float64], mu: NDArray[np.float64], rho_f: float
+) -> NDArray[np.float64]:
+    """:func:`normalise_pixels` without the input checks (a hot path whose input is valid).
+
+    Parameters
+    ----------
+    px
+        ``(..., 2)`` finite pixels.
+    mu
+        ``(2,)`` or broadcastable ``(..., 2)`` finite principal point, pixels.
+    rho_f
+        Finite, positive focal ratio.
+
+    Returns
+    -------
+    numpy.ndarray
+        ``(..., 2)`` points on the unit circle, the same bits as :func:`normalise_pixels`.
+
+    Raises
+    ------
+    ValueError
+        For a pixel at the principal point.
+    """
     du = px[..., 0] - mu[..., 0]
     dv = px[..., 1] - mu[..., 1]
     # eq. (7) multiplies through by fx: x_n = (du, rho_f dv) / sqrt(du^2 + rho_f^2 dv^2),

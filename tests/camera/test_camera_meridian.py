@@ -79,3 +79,56 @@ def test_points_without_a_reflection_get_nan() -> None:
     rho = np.array([0.001, 0.002])
     z = np.array([5.0, 8.0])
     assert np.isnan(camera._solver.solve(rho, z)).all()
+
+
+def _points_anywhere(rng: np.random.Generator, size: int) -> tuple[np.ndarray, np.ndarray]:
+    """Meridian coordinates in every direction, 1 cm to 50 m from the mirror frame's origin."""
+    angle = rng.uniform(-0.5 * np.pi, 0.5 * np.pi, size)
+    distance = np.exp(rng.uniform(np.log(0.01), np.log(50.0), size))
+    return np.maximum(distance * np.cos(angle), 1e-6), distance * np.sin(angle)
+
+
+@pytest.mark.parametrize("name", list(CAMERAS))
+@settings(max_examples=10, deadline=None)
+@given(seed=st.integers(0, 2**32 - 1))
+def test_the_table_bracket_finds_the_grid_search_root(name: str, seed: int) -> None:
+    """The fast path (table, bracket, Illinois) gives the reference grid search's root."""
+    camera = CAMERAS[name]
+    rng = np.random.default_rng(seed)
+    points = scene_points(camera, rng, 1500)
+    rho, z = _meridian_coordinates(camera, points)
+    near_rho, near_z = _points_anywhere(rng, 1500)
+    rho, z = np.concatenate([rho, near_rho]), np.concatenate([z, near_z])
+    fast = camera._solver.solve(rho, z)
+    reference = camera._solver.grid_solve(rho, z)
+    np.testing.assert_array_equal(np.isnan(fast), np.isnan(reference))
+    found = np.isfinite(fast)
+    assert found.sum() > 500
+    np.testing.assert_allclose(fast[found], reference[found], rtol=0.0, atol=1e-15)
+
+
+@pytest.mark.parametrize("name", list(CAMERAS))
+def test_the_table_sends_most_points_with_a_root_through_its_bracket(name: str) -> None:
+    """The table serves the common case: few points with a root fall back to the grid."""
+    camera = CAMERAS[name]
+    camera._solver.solve(np.array([1.0]), np.array([0.0]))  # builds the table
+    points = scene_points(camera, np.random.default_rng(11), 4000)
+    rho, z = _meridian_coordinates(camera, points)
+    _, half = camera._solver._table.lookup(rho, z)
+    has_root = np.isfinite(camera._solver.grid_solve(rho, z))
+    bracketed = np.isfinite(half) & has_root
+    assert bracketed.sum() >= 0.95 * has_root.sum()
+
+
+@pytest.mark.parametrize("name", list(CAMERAS))
+def test_cells_marked_rootless_hold_no_root(name: str) -> None:
+    """A point whose cell the table marks as rootless has none by the grid search either."""
+    camera = CAMERAS[name]
+    camera._solver.solve(np.array([1.0]), np.array([0.0]))
+    rho, z = _points_anywhere(np.random.default_rng(12), 40000)
+    _, half = camera._solver._table.lookup(rho, z)
+    rootless = half == np.inf
+    assert rootless.sum() > 1000
+    assert np.isnan(camera._solver.grid_solve(rho[rootless], z[rootless])).all()
+    # and the solver returns NaN for them
+    assert np.isnan(camera._solver.solve(rho[rootless], z[rootless])).all()
