@@ -42,6 +42,7 @@ __all__ = [
     "episode_row",
     "group_rows",
     "hold_steps",
+    "judging_rule",
     "load_rows",
     "ordered_policies",
     "success_summaries",
@@ -54,12 +55,13 @@ __all__ = [
 #: column) first, then two looser ones
 TOLERANCES: Mapping[str, tuple[float, float]] = SUCCESS_TOLERANCES
 
-#: how every episode is judged, whatever env a model was trained in (its metadata may ask a
-#: hold or other tolerances): the task's tolerance, at the first step within it
+#: how every episode is judged, whatever env a model was trained in (its metadata may ask
+#: another hold or other tolerances): the task's tolerance, held 1 s (a park: the env's
+#: default ``success_hold_steps``, ``None``)
 JUDGING: dict[str, Any] = {
     "success_position_m": TOLERANCES[TASK_TOLERANCE][0],
     "success_heading_deg": TOLERANCES[TASK_TOLERANCE][1],
-    "success_hold_steps": 1,
+    "success_hold_steps": None,
 }
 
 #: the policy whose rate is every table's limit: a planner with the true poses and the map
@@ -84,6 +86,7 @@ CSV_COLUMNS = (
     "seed",
     "physics",
     "success",
+    "reached",
     "final_position_error_m",
     "final_heading_error_deg",
     "steps",
@@ -124,6 +127,7 @@ def episode_row(log: EpisodeLog, variant: Any = None) -> dict[str, Any]:
         "seed": log.seed,
         "physics": log.physics,
         "success": log.success,
+        "reached": log.longest_run_within(*TOLERANCES[TASK_TOLERANCE]) > 0,
         "final_position_error_m": float(info["position_error_m"]),
         "final_heading_error_deg": float(info["heading_error_deg"]),
         "steps": log.steps,
@@ -161,6 +165,26 @@ def csv_row(row: Mapping[str, Any]) -> dict[str, Any]:
         for name, value in (row.get("success_by_tolerance") or {}).items()
     }
     return {**row, **flat}
+
+
+def judging_rule(hold: int, control_dt: float = 0.1) -> str:
+    """Say in words how rows judged with ``success_hold_steps=hold`` count a success.
+
+    Parameters
+    ----------
+    hold
+        The rows' ``success_hold_steps`` (:func:`hold_steps`).
+    control_dt
+        The control period, seconds (0.1, the envs' default).
+    """
+    position_m, heading_deg = TOLERANCES[TASK_TOLERANCE]
+    window = f"{100 * position_m:g} cm and {heading_deg:g} deg of the goal"
+    if hold > 1:
+        return (
+            f"a park: the pose within {window}, held {hold} steps in a row "
+            f"({hold * control_dt:g} s)"
+        )
+    return f"a pass: the first step within {window} (the older rule; the pose need not stay)"
 
 
 def wilson_interval(successes: int, n: int, z: float = 1.959963984540054) -> tuple[float, float]:
@@ -311,6 +335,7 @@ ROW_SCHEMA: dict[str, tuple[str, ...]] = {
     "compute_batch": ("int",),
     "success_hold_steps": ("int",),
     "success": ("bool",),
+    "reached": ("bool",),
     "collision": ("bool",),
     "final_position_error_m": ("number",),
     "final_heading_error_deg": ("number",),

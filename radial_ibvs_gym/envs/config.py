@@ -21,7 +21,12 @@ import numpy as np
 
 from radial_ibvs_gym.config import did_you_mean, short
 from radial_ibvs_gym.envs.missed import MissedDetections
-from radial_ibvs_gym.envs.rules import SUCCESS_TOLERANCES, TASK_TOLERANCE
+from radial_ibvs_gym.envs.rules import (
+    PARK_HOLD_S,
+    SUCCESS_TOLERANCES,
+    TASK_TOLERANCE,
+    park_hold_steps,
+)
 from radial_ibvs_gym.envs.slots import Slots
 from radial_ibvs_gym.features import pair_indices
 from radial_ibvs_gym.limits import (
@@ -105,7 +110,7 @@ class ParkingConfig:
     control_dt: float = 0.1
     success_position_m: float = SUCCESS_TOLERANCES[TASK_TOLERANCE][0]
     success_heading_deg: float = SUCCESS_TOLERANCES[TASK_TOLERANCE][1]
-    success_hold_steps: int = 1
+    success_hold_steps: int | None = None
     min_visible: int = 3
     terminate_on_collision: bool = True
     max_landmarks: int | None = None
@@ -193,6 +198,9 @@ class ParkingConfig:
             "task", "max_landmarks", "min_visible", "goal_image_frames", "success_hold_steps",
         ):  # fmt: skip
             value = getattr(self, name)
+            if value is None and name == "success_hold_steps":  # None: a park, 1 s held
+                object.__setattr__(self, name, park_hold_steps(self.control_dt))
+                continue
             if value is None and name in ("task", "max_landmarks"):
                 continue  # None: drawn per episode, or no slots
             if isinstance(value, bool) or not isinstance(value, int):
@@ -203,10 +211,11 @@ class ParkingConfig:
             raise ValueError(f"task must be in 0..{self.scenario.n_tasks - 1}, got {self.task!r}")
         if not (3 <= self.min_visible <= n):
             raise ValueError(f"min_visible must be in 3..{n}, got {self.min_visible!r}")
-        if not (1 <= self.success_hold_steps <= MAX_HOLD_STEPS):
+        if not (1 <= self.hold_steps <= MAX_HOLD_STEPS):
             raise ValueError(
-                f"success_hold_steps must be in 1..{MAX_HOLD_STEPS}, "
-                f"got {self.success_hold_steps!r}"
+                f"success_hold_steps must be in 1..{MAX_HOLD_STEPS}, got "
+                f"{self.success_hold_steps!r} (the default is {PARK_HOLD_S:g} s: "
+                f"{PARK_HOLD_S:g} / control_dt steps)"
             )
         if not (1 <= self.goal_image_frames <= MAX_GOAL_IMAGE_FRAMES):
             raise ValueError(
@@ -307,6 +316,16 @@ class ParkingConfig:
         if self.max_landmarks is None:
             return None
         return Slots(self.scenario.n_landmarks, self.max_landmarks)
+
+    @property
+    def hold_steps(self) -> int:
+        """Steps in a row within the tolerances a success asks (``success_hold_steps``, resolved).
+
+        ``success_hold_steps=None`` (the default) is a park: :data:`~.rules.PARK_HOLD_S` over
+        ``control_dt``, 10 steps at 0.1 s.
+        """
+        assert self.success_hold_steps is not None  # resolved in __post_init__
+        return self.success_hold_steps
 
     @property
     def observed_landmarks(self) -> int:

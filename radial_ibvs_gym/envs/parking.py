@@ -122,8 +122,11 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     ``start_reach * pi`` radians of the goal's heading (scenarios that start ``anywhere``).
 
     ## Episode End
-    Termination: success (position error <= ``success_position_m`` and heading error <=
-    ``success_heading_deg``), a collision (if ``terminate_on_collision``), or fewer than
+    Termination: success, a park (position error <= ``success_position_m`` and heading error
+    <= ``success_heading_deg`` held for ``success_hold_steps`` steps in a row: 1 s, 10 steps at
+    the default ``control_dt``; ``info["reached"]`` marks the first step of a run within the
+    tolerances, and ``success_hold_steps=1`` is the older rule, where a pass counts), a
+    collision (if ``terminate_on_collision``), or fewer than
     ``min_visible`` visible landmarks (``info["lost"]`` is then ``True``). Truncation:
     ``max_episode_steps`` of the registration (600 steps of ``control_dt = 0.1`` s).
 
@@ -145,7 +148,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
     | ``image_noise`` / ``image_blur`` / ``exposure`` | ``0`` / ``0`` / ``1`` | detected mode |
     | ``control_dt`` | ``0.1`` | control period, seconds |
     | ``success_position_m`` / ``success_heading_deg`` | ``0.02`` / ``2.0`` | success tolerances |
-    | ``success_hold_steps`` | ``1`` | steps in a row within them for success (1: a pass counts) |
+    | ``success_hold_steps`` | ``None`` | steps held within them (``None``: 1 s; 1: a pass) |
     | ``min_visible`` | ``3`` | fewer visible landmarks terminate the episode |
     | ``terminate_on_collision`` | ``True`` | |
     | ``max_landmarks`` | ``None`` | landmark slots: pad to this many, add ``landmark_mask`` |
@@ -291,11 +294,14 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             min_visible=config.min_visible,
             terminate_on_collision=config.terminate_on_collision,
             held=self._held,
-            hold_steps=config.success_hold_steps,
+            hold_steps=config.hold_steps,
         )
         terms = self._reward_terms(self._prev_errors, now, result.collision, lost, success)
         self._prev_errors = now
-        info = self._info(result.pose, now, bool(success), result.collision, bool(lost))
+        reached = self._held == 1
+        info = self._info(
+            result.pose, now, bool(success), result.collision, bool(lost), reached=reached
+        )
         info.update(rules.reward_info(terms, np.float64))
         if self.render_mode is not None:
             self._trail.append(result.pose[:2].copy())
@@ -486,6 +492,8 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         success: bool,
         collision: bool,
         lost: bool = False,
+        *,
+        reached: bool = False,
     ) -> dict[str, Any]:
         setup = self._setup
         assert setup is not None
@@ -501,6 +509,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             setup.episode.task,
             setup.goal_depths,
             None if drawn is None else rules.imperfections_info(drawn),
+            reached=reached,
         )
         if self._detector is not None:
             info["detection"] = self._detector.info()

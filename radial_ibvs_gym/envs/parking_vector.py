@@ -296,7 +296,7 @@ class ParkingVectorEnv(VectorEnv):
             min_visible=t.min_visible,
             terminate_on_collision=t.terminate_on_collision,
             held=self._held,
-            hold_steps=t.success_hold_steps,
+            hold_steps=t.hold_steps,
         )
         terms = self._reward_terms(self._prev, now, collision, lost, success)
         reward = sum(terms.values(), np.zeros(n))
@@ -307,7 +307,7 @@ class ParkingVectorEnv(VectorEnv):
             if self.max_episode_steps is not None
             else np.zeros(n, dtype=bool)
         )
-        info = self._info(poses, now, success, collision, n_visible, lost)
+        info = self._info(poses, now, success, collision, n_visible, lost, self._held == 1)
         info |= masked(rules.reward_info(terms), np.ones(n, dtype=bool))
         obs = self._observation()
         if resetting is not None:
@@ -439,6 +439,7 @@ class ParkingVectorEnv(VectorEnv):
         collision: NDArray[np.bool_],
         n_visible: NDArray[np.integer[Any]],
         lost: NDArray[np.bool_] | None = None,
+        reached: NDArray[np.bool_] | None = None,
     ) -> dict[str, Any]:
         values = rules.info_values(
             poses,
@@ -451,6 +452,7 @@ class ParkingVectorEnv(VectorEnv):
             self.batch.tasks,
             self.batch.goal_depths,
             self._imperfections_info(slice(None)),
+            reached=np.zeros(self.num_envs, bool) if reached is None else reached,
         )
         return masked(values, np.ones(self.num_envs, dtype=bool))
 

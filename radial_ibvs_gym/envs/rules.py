@@ -29,6 +29,7 @@ __all__ = [
     "GOAL_REWARD_TERMS",
     "IMPERFECTION_KEYS",
     "INFO_KEYS",
+    "PARK_HOLD_S",
     "REWARD_TERMS",
     "SUCCESS_TOLERANCES",
     "TASK_TOLERANCE",
@@ -37,6 +38,7 @@ __all__ = [
     "image_distance",
     "imperfections_info",
     "info_values",
+    "park_hold_steps",
     "pose_errors",
     "potential",
     "real_actions",
@@ -55,6 +57,15 @@ SUCCESS_TOLERANCES: dict[str, tuple[float, float]] = {
 }
 #: the task's own tolerance: the key of :data:`SUCCESS_TOLERANCES` the envs judge by default
 TASK_TOLERANCE = "2cm/2deg"
+#: how long a park holds the pose within the tolerances, seconds: the envs' default
+#: ``success_hold_steps`` is this over ``control_dt`` (10 steps at 0.1 s)
+PARK_HOLD_S = 1.0
+
+
+def park_hold_steps(control_dt: float) -> int:
+    """Return the steps of :data:`PARK_HOLD_S` at a control period (seconds), at least 1."""
+    return max(1, round(PARK_HOLD_S / control_dt))
+
 
 #: the reward terms, in the order they are summed (``info["reward_<term>"]``)
 REWARD_TERMS = ("progress", "heading", "precision", "time", "collision", "lost", "success")
@@ -170,7 +181,9 @@ def episode_end(
     """Success, lost, termination and the steps held within the tolerances (``(B,)`` arrays).
 
     Success: both errors within the tolerances for ``hold_steps`` steps in a row (``held``:
-    the steps in a row before this one; 1: the first step within them, a pass counts). Lost:
+    the steps in a row before this one; the envs' default is a park, :data:`PARK_HOLD_S`; 1:
+    the first step within them, a pass counts). The returned ``held`` is 1 on the first step of
+    a run within them (the envs' ``info["reached"]``). Lost:
     fewer than ``min_visible`` landmarks visible. Termination: success, lost, or a collision
     when ``terminate_on_collision``. Returns ``(success, lost, terminated, held now)``.
     """
@@ -346,6 +359,7 @@ INFO_KEYS = (
     "position_error_m",
     "heading_error_deg",
     "is_success",
+    "reached",
     "collision",
     "lost",
     "n_visible",
@@ -365,6 +379,8 @@ def info_values(
     task: Any,
     goal_depths: Any,
     imperfections: Mapping[str, Any] | None = None,
+    *,
+    reached: Any = False,
 ) -> dict[str, Any]:
     """Build the ``info`` values of one env (plain Python scalars) or of a batch (arrays).
 
@@ -382,6 +398,10 @@ def info_values(
     imperfections
         The drawn camera imperfections (:func:`imperfections_info`; ``(B,)`` arrays for a
         batch), or ``None`` when the scenario draws none.
+    reached
+        Whether this step is the first of a run within the tolerances (``held == 1``): the
+        step a pass would count. ``is_success`` comes ``success_hold_steps - 1`` steps later,
+        if the pose stays.
 
     Returns
     -------
@@ -389,8 +409,8 @@ def info_values(
         :data:`INFO_KEYS`, plus ``camera_imperfections`` when drawn; ``heading_error_deg``
         in degrees. One env's numbers are numpy scalars (``np.float64``, ``np.int64``) or
         arrays, each with a ``dtype`` as TorchRL's info reader needs; its flags
-        (``is_success``, ``collision``, ``lost``) are Python bools, which Gymnasium's vector
-        envs batch as bool arrays.
+        (``is_success``, ``reached``, ``collision``, ``lost``) are Python bools, which
+        Gymnasium's vector envs batch as bool arrays.
     """
     values: dict[str, Any]
     if isinstance(errors[0], np.ndarray) and errors[0].ndim > 0:  # a batch
@@ -400,6 +420,7 @@ def info_values(
             "position_error_m": np.asarray(errors[0]).astype(np.float64),
             "heading_error_deg": np.degrees(errors[1]),
             "is_success": np.asarray(success, dtype=bool),
+            "reached": np.asarray(reached, dtype=bool),
             "collision": np.asarray(collision, dtype=bool),
             "lost": np.asarray(lost, dtype=bool),
             "n_visible": np.asarray(n_visible, dtype=np.int64),
@@ -414,6 +435,7 @@ def info_values(
             "position_error_m": np.float64(errors[0]),
             "heading_error_deg": np.float64(math.degrees(errors[1])),
             "is_success": bool(success),
+            "reached": bool(reached),
             "collision": bool(collision),
             "lost": bool(lost),
             "n_visible": np.int64(n_visible),

@@ -500,7 +500,7 @@ def test_reset_and_step_give_the_same_info_keys_all_numbers(env_id: str) -> None
     _, _, _, _, at_step = env.step(env.action_space.sample())
     assert set(at_reset) == set(at_step)
     for key, value in at_step.items():
-        if key in ("is_success", "collision", "lost"):  # batched as bool arrays by Gymnasium
+        if key in ("is_success", "reached", "collision", "lost"):  # bool arrays once batched
             assert isinstance(value, bool), key
         else:  # numpy: TorchRL's info reader reads the dtype
             assert isinstance(value, np.generic | np.ndarray), (key, value)

@@ -22,9 +22,10 @@ def add_parser(sub: Any) -> None:
             "success rate (95% Wilson interval) and the errors; --json writes one row per "
             "episode. Every policy runs on the same physics, kinematic unless --env-kwarg "
             "physics=pymunk says otherwise (the output names it), and is judged as the benchmark "
-            "judges (2 cm / 2 deg at the first step within them, whatever hold a model was "
-            "trained with; --env-kwarg success_hold_steps=N asks a hold), so that two calls, or "
-            "one call with several policies, compare policies only."
+            "judges (a park: 2 cm / 2 deg held 1 s, whatever a model was trained with; "
+            "--env-kwarg success_hold_steps=N asks another hold, 1 the older rule where a pass "
+            "counts), so that two calls, or one call with several policies, compare policies "
+            "only."
         ),
         epilog=policies_help(),
         formatter_class=argparse.RawDescriptionHelpFormatter,

@@ -90,7 +90,7 @@ def run(args: argparse.Namespace) -> int:
     from radial_ibvs_agents.experiments.report import dagger_curves
     from radial_ibvs_agents.experiments.tables import results_table, seeds_table
     from radial_ibvs_agents.io import write_atomic
-    from radial_ibvs_agents.rows import TASK_TOLERANCE, TOLERANCES, hold_steps, load_rows
+    from radial_ibvs_agents.rows import hold_steps, judging_rule, load_rows
 
     renames = _pairs(args.rename, "--rename")
     seeds = {k: v.split(",") for k, v in _pairs(args.seeds, "--seeds").items()}
@@ -108,15 +108,12 @@ def run(args: argparse.Namespace) -> int:
         kept = [r for r in renamed if not args.suites or r["suite"] in args.suites]
         print(f"saved {plot_success(success_summaries(kept, args.policies), args.heatmap)}")
     sources = ", ".join(str(p) for p in args.rows)
-    hold = hold_steps(rows)
-    held = f", held there {hold} steps in a row" if hold > 1 else ""
-    position_m, heading_deg = TOLERANCES[TASK_TOLERANCE]
+    rule = judging_rule(hold_steps(rows))
     parts = [
         "# Benchmark report",
         "",
-        f"From {len(rows)} episodes ({sources}). Success: the final pose within "
-        f"{100 * position_m:g} cm and {heading_deg:g} deg of the goal{held}; in brackets, the "
-        "95 % Wilson interval (cells of 20 episodes or more).",
+        f"From {len(rows)} episodes ({sources}). Success: {rule}; in brackets, the 95 % "
+        "Wilson interval (cells of 20 episodes or more).",
         "",
         results_table(rows, args.suites, args.policies, renames),
     ]

@@ -11,6 +11,7 @@ the effort, smoothness, collisions and compute time per step.
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Callable, Sequence
 from dataclasses import replace
 from pathlib import Path
@@ -23,11 +24,12 @@ from radial_ibvs_agents import make_policy
 from radial_ibvs_agents.experiments.backends import LocalBackend, RayBackend, make_backend
 from radial_ibvs_agents.experiments.jobs import CHUNK, Job, JobResult, init_worker, run_job
 from radial_ibvs_agents.experiments.store import ChunkStore
-from radial_ibvs_agents.experiments.suites import suite_variants
+from radial_ibvs_agents.experiments.suites import Variant, suite_variants
 from radial_ibvs_agents.experiments.tables import markdown_table, write_rows_csv
 from radial_ibvs_agents.io import write_atomic, write_json
-from radial_ibvs_agents.rows import add_limits, load_rows, summarise
-from radial_ibvs_gym.envs.config import MAX_HOLD_STEPS
+from radial_ibvs_agents.rows import add_limits, judging_rule, load_rows, summarise
+from radial_ibvs_gym.envs.config import MAX_HOLD_STEPS, ParkingConfig
+from radial_ibvs_gym.envs.rules import park_hold_steps
 
 __all__ = [
     "Job",
@@ -52,7 +54,7 @@ def run_benchmark(
     store: Path | str | None = None,
     notify: Callable[[str], None] | None = None,
     trust_model: bool = False,
-    success_hold_steps: int = 1,
+    success_hold_steps: int | None = None,
 ) -> list[JobResult]:
     """Run every policy on every suite variant, in chunks of at most :data:`CHUNK` episodes.
 
@@ -85,8 +87,9 @@ def run_benchmark(
         (:func:`radial_ibvs_agents.learned.load`'s ``trust_pickle``), in every worker.
     success_hold_steps
         How many steps in a row the pose must stay within the tolerances for a success
-        (the env's ``success_hold_steps``; 1, the default: the first step within them), for
-        every policy alike.
+        (the env's ``success_hold_steps``), for every policy alike. ``None``, the default: a
+        park, held 1 s (10 steps of 0.1 s); 1: the older rule, the first step within them. The
+        rule is part of every job's key, so no chunk judged by one is reused for another.
 
     Returns
     -------
@@ -107,19 +110,20 @@ def run_benchmark(
         raise ValueError(f"workers must be >= 1, got {workers!r}")
     if episodes is not None and episodes < 1:
         raise ValueError(f"episodes must be >= 1, got {episodes!r}")
-    if isinstance(success_hold_steps, bool) or not (
-        isinstance(success_hold_steps, int) and 1 <= success_hold_steps <= MAX_HOLD_STEPS
+    if success_hold_steps is not None and (
+        isinstance(success_hold_steps, bool)
+        or not (isinstance(success_hold_steps, int) and 1 <= success_hold_steps <= MAX_HOLD_STEPS)
     ):
         raise ValueError(
             f"success_hold_steps must be an integer in 1..{MAX_HOLD_STEPS}, "
             f"got {success_hold_steps!r}"
         )
     variants = suite_variants(list(suites))
-    if success_hold_steps != 1:  # part of each variant: the chunks of either judging differ
-        variants = [
-            replace(v, overrides={**v.overrides, "success_hold_steps": success_hold_steps})
-            for v in variants
-        ]
+    # the judging rule, in steps, is part of every variant, so of every job's key
+    variants = [
+        replace(v, overrides={**v.overrides, "success_hold_steps": _hold(v, success_hold_steps)})
+        for v in variants
+    ]
     jobs = [
         Job(policy, variant, min(CHUNK, total - first), first, trust_model)
         for variant in variants
@@ -151,6 +155,15 @@ def run_benchmark(
         if isinstance(backend, str):
             runner.close()
     return _merge([r for r in results if r is not None])
+
+
+def _hold(variant: Variant, hold_steps: int | None) -> int:
+    """Return the steps a variant's success holds: ``hold_steps``, or 1 s at its period."""
+    if hold_steps is not None:
+        return hold_steps
+    default = dataclasses.fields(ParkingConfig)
+    control_dt = next(f.default for f in default if f.name == "control_dt")
+    return park_hold_steps(float(variant.overrides.get("control_dt", control_dt)))
 
 
 def job_cost(job: Job) -> float:
@@ -271,7 +284,9 @@ def write_outputs(results: Sequence[JobResult], out_dir: Path | str) -> list[Pat
         for r in results
         if r.skipped
     ]
-    table = markdown_table(summaries)
+    holds = sorted({int(row.get("success_hold_steps", 1)) for row in rows})
+    rules = "; ".join(judging_rule(hold) for hold in holds) or "none run"
+    table = f"Success: {rules}.\n\n" + markdown_table(summaries)
     if skipped:
         table += "\nSkipped:\n" + "\n".join(skipped) + "\n"
     written = [

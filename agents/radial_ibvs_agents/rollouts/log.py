@@ -6,11 +6,14 @@ flat JSON object of the tables, is :func:`radial_ibvs_agents.rows.episode_row`.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
+
+from radial_ibvs_gym.envs.rules import pose_errors
 
 __all__ = ["EpisodeLog"]
 
@@ -118,14 +121,37 @@ class EpisodeLog:
         return "lost" if self.terminated else "time-out"
 
     def success_at(self, position_m: float, heading_deg: float) -> bool:
-        """Success at a looser tolerance: the env's success, or a final pose that close.
+        """Success at a looser tolerance (metres, degrees), judged by the env's rule.
 
-        An episode ended by a collision counts only if the env reported success.
+        With a hold (``success_hold_steps`` > 1, a park): the env's success, or the pose within
+        the tolerance for that many steps in a row at some step (the env, judging by that
+        tolerance, would have ended the episode there as a success). With 1, the older rule:
+        the env's success, or a final pose that close (an episode ended by a collision counts
+        only if the env reported success).
         """
         if self.success:
             return True
+        if self.success_hold_steps > 1:
+            return self.longest_run_within(position_m, heading_deg) >= self.success_hold_steps
         return (
             not self.info.get("collision", False)
             and float(self.info["position_error_m"]) <= position_m
             and float(self.info["heading_error_deg"]) <= heading_deg
         )
+
+    def longest_run_within(self, position_m: float, heading_deg: float) -> int:
+        """Return the most steps in a row whose pose lies within a tolerance of the goal.
+
+        The poses after each step are judged as the env judges them (:func:`pose_errors`,
+        the heading in radians); 0 when no step comes that close.
+        """
+        if self.steps == 0:
+            return 0
+        goal: Any = np.asarray(self.info["goal_pose"], dtype=np.float64)[:, None]
+        position, heading = pose_errors(self.poses[1:].T, goal)
+        within = (position <= position_m) & (heading <= math.radians(heading_deg))
+        longest = run = 0
+        for inside in within.tolist():
+            run = run + 1 if inside else 0
+            longest = max(longest, run)
+        return longest

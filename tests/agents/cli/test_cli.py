@@ -92,7 +92,7 @@ def test_help_lists_every_policy_and_the_extra_each_needs(
 def test_evaluate_judges_as_the_benchmark_whatever_hold_a_model_trained_with(
     tmp_path, capsys: pytest.CaptureFixture[str]
 ) -> None:
-    """``ppo-pose-layer`` trained asking a 10-step hold; ``evaluate`` judges at 1 unless told."""
+    """``evaluate`` judges by the park rule (1 s) unless told, whatever a model trained with."""
     import json
 
     from radial_ibvs_agents.cli import main
@@ -102,8 +102,8 @@ def test_evaluate_judges_as_the_benchmark_whatever_hold_a_model_trained_with(
     rows = tmp_path / "rows.json"
     base = ["evaluate", "--policy", "ppo-pose-layer", "--scenario", "random", "--episodes", "2"]
     assert main([*base, "--json", str(rows)]) == 0
-    assert {r["success_hold_steps"] for r in json.loads(rows.read_text())} == {1}
-    assert "held" not in capsys.readouterr().out
-    assert main([*base, "--json", str(rows), "--env-kwarg", "success_hold_steps=10"]) == 0
     assert {r["success_hold_steps"] for r in json.loads(rows.read_text())} == {10}
     assert "success held 10 steps" in capsys.readouterr().out
+    assert main([*base, "--json", str(rows), "--env-kwarg", "success_hold_steps=1"]) == 0
+    assert {r["success_hold_steps"] for r in json.loads(rows.read_text())} == {1}
+    assert "held" not in capsys.readouterr().out

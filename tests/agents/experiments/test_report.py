@@ -93,7 +93,11 @@ def test_rows_judged_differently_are_not_merged(tmp_path: Path, capsys):
         load_rows([plain, held])
     assert len(load_rows([held, held])) == 2 * len(_rows())
     assert main(["report", str(held)]) == 0
-    assert "held there 10 steps in a row" in capsys.readouterr().out
+    assert "a park: the pose within 2 cm and 2 deg of the goal, held 10 steps in a row (1 s)" in (
+        capsys.readouterr().out
+    )
+    assert main(["report", str(plain)]) == 0
+    assert "a pass: the first step within 2 cm and 2 deg" in capsys.readouterr().out
 
 
 def test_the_command_writes_the_report_and_curves(tmp_path: Path, capsys):
