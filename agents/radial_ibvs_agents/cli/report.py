@@ -181,12 +181,17 @@ def _write_into(args: argparse.Namespace, rows: list[dict[str, Any]], renames: d
     from radial_ibvs_agents.experiments.report import replace_block
     from radial_ibvs_agents.experiments.tables import md_code, results_table
     from radial_ibvs_agents.io import write_through
+    from radial_ibvs_agents.rows import hold_steps, judging_rule
 
     ends = args.variants is None  # a headline (chosen rows) without the second table
     table = results_table(rows, args.suites, args.policies, renames, args.variants, ends)
     command = shlex.join(["radial-ibvs", *getattr(args, "argv", sys.argv[1:])])
     n = len({(r["suite"], r["variant"], r["policy"], r["seed"]) for r in rows})
-    text = f"{table}\n<sub>Generated from {n} benchmark episodes by {md_code(command)}.</sub>\n"
+    rule = judging_rule(hold_steps(rows))
+    text = (
+        f"Success: {rule}.\n\n{table}\n<sub>Generated from {n} benchmark episodes by "
+        f"{md_code(command)}.</sub>\n"
+    )
     if not args.block.replace("-", "").replace("_", "").isalnum():
         raise ValueError(f"--block must be letters, digits, '-' or '_', got {args.block!r}")
     write_through(args.into, replace_block(args.into, args.block, text).encode())

@@ -95,12 +95,15 @@ def test_evaluate_judges_as_the_benchmark_whatever_hold_a_model_trained_with(
     """``evaluate`` judges by the park rule (1 s) unless told, whatever a model trained with."""
     import json
 
+    from held_model import model_trained_with_hold
+
     from radial_ibvs_agents.cli import main
     from radial_ibvs_agents.learned import load
 
-    assert load("ppo-pose-layer").env_kwargs["success_hold_steps"] == 10
+    model = model_trained_with_hold(tmp_path, 3)
+    assert load(model).env_kwargs["success_hold_steps"] == 3  # what its training asked
     rows = tmp_path / "rows.json"
-    base = ["evaluate", "--policy", "ppo-pose-layer", "--scenario", "random", "--episodes", "2"]
+    base = ["evaluate", "--policy", str(model), "--scenario", "random", "--episodes", "2"]
     assert main([*base, "--json", str(rows)]) == 0
     assert {r["success_hold_steps"] for r in json.loads(rows.read_text())} == {10}
     assert "success held 10 steps" in capsys.readouterr().out

@@ -303,14 +303,16 @@ def test_each_suites_time_is_summed_from_its_jobs_and_resumed_chunks_are_counted
     assert (timing["resumed"], timing["seconds"]) == (0, 0.5)
 
 
-def test_every_policy_is_judged_alike_whatever_its_training_env_asked(monkeypatch):
-    """A model trained with ``success_hold_steps: 10`` is judged by the job's rule, not its own."""
+def test_every_policy_is_judged_alike_whatever_its_training_env_asked(monkeypatch, tmp_path):
+    """A model trained with ``success_hold_steps: 3`` is judged by the job's rule, not its own."""
+    from held_model import model_trained_with_hold
+
     import radial_ibvs_agents.rollouts as rollouts
     from radial_ibvs_agents.experiments import jobs
     from radial_ibvs_agents.learned import load
 
-    model = load("ppo-pose-layer")
-    assert model.env_kwargs.get("success_hold_steps") == 10  # what its training asked
+    model = str(model_trained_with_hold(tmp_path, 3))
+    assert load(model).env_kwargs.get("success_hold_steps") == 3  # what its training asked
     seen = {}
     real = rollouts.make_env
 
@@ -320,13 +322,13 @@ def test_every_policy_is_judged_alike_whatever_its_training_env_asked(monkeypatc
 
     monkeypatch.setattr(rollouts, "make_env", spy)
     variant = next(v for v in SUITES["paper"] if v.label == "d*")
-    result = jobs.run_job(jobs.Job("ppo-pose-layer", variant, 1))
+    result = jobs.run_job(jobs.Job(model, variant, 1))
     assert result.skipped is None
     # the park rule (the env's default: 1 s) and the task's tolerance, not the model's
     assert seen["success_hold_steps"] is None and seen["success_position_m"] == 0.02
     assert result.rows[0]["success_hold_steps"] == 10  # what the env judged by
     passing = replace(variant, overrides={**variant.overrides, "success_hold_steps": 1})
-    result = jobs.run_job(jobs.Job("ppo-pose-layer", passing, 1))
+    result = jobs.run_job(jobs.Job(model, passing, 1))
     assert seen["success_hold_steps"] == 1 and result.rows[0]["success_hold_steps"] == 1
 
 

@@ -134,7 +134,7 @@ def test_into_regenerates_the_marked_block_and_keeps_the_rest(tmp_path: Path) ->
     rows = tmp_path / "episodes.json"
     rows.write_text(json.dumps(_rows()))
     page = tmp_path / "README.md"
-    page.write_text("# Title\n\n<!-- results:start -->\nold\n<!-- results:end -->\n\nafter\n")
+    page.write_text("# Title\n\n<!-- results:start -->\nSTALE\n<!-- results:end -->\n\nafter\n")
     argv = ["report", str(rows), "--policies", "planner", "ibvs", "--into", str(page)]
     argv += [
         "--variants",
@@ -146,7 +146,7 @@ def test_into_regenerates_the_marked_block_and_keeps_the_rest(tmp_path: Path) ->
     assert main(argv) == 0
     text = page.read_text()
     assert text.startswith("# Title\n\n<!-- results:start -->\n") and text.endswith("after\n")
-    assert "old" not in text and "| held-out: random | 20 | 100 (84-100) | 75 (53-89) |" in text
+    assert "STALE" not in text and "| held-out: random | 20 | 100 (84-100) | 75 (53-89) |" in text
     assert text.index("paper: task 0") < text.index("held-out: random")  # the order given
     assert "how episodes ended" not in text
     assert f"by `radial-ibvs report {rows}" in text  # the command that regenerates it

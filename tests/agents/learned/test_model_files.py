@@ -256,7 +256,7 @@ def test_a_pickled_weights_file_is_a_value_error_even_when_trusted(tmp_path: Pat
     assert not marker.exists()
 
 
-@pytest.mark.parametrize("name", ["ppo-pose-layer", "dagger-student"])
+@pytest.mark.parametrize("name", ["dagger-student"])
 def test_models_saved_before_the_moves_load_by_the_table_of_former_paths(name: str) -> None:
     # the shipped models were saved when the extractors were agents.learned.extractors
     folder = MODELS_DIR / name

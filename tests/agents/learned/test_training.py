@@ -80,7 +80,7 @@ def test_ppo_trains_with_the_students_pose_layer(tmp_path: Path) -> None:
     config.write_text(
         "base: "  # relative to this config, as a base must be: into the shipped configs
         + os.path.relpath(
-            Path(__file__).resolve().parents[3] / "configs/agents/ppo_pose_layer.yaml", tmp_path
+            Path(__file__).resolve().parents[3] / "research/configs/ppo_pose_layer.yaml", tmp_path
         )
         + "\nRadialIBVS/Parking-v0: {n_envs: 4, n_steps: 16, batch_size: 32, n_epochs: 1}\n"
         + "radial_ibvs_gym: {eval_episodes: 1, eval_freq: 64}\n"

@@ -28,6 +28,7 @@ from radial_ibvs_agents.learned.files.model_files import (
     load_policy,
     read_normalization,
 )
+from radial_ibvs_agents.learned.files.threads import threads_for
 from radial_ibvs_agents.untrusted import check_archive, read_json
 from radial_ibvs_gym.registration import check_env_id
 
@@ -125,6 +126,11 @@ class LearnedPolicy:
     ) -> tuple[np.ndarray, Any]:
         """Action(s) for one observation or a batch, as stable-baselines3's ``predict``.
 
+        A batch of fewer than :data:`~radial_ibvs_agents.learned.files.threads.SMALL_BATCH`
+        observations runs on one torch thread, and the caller's thread count is restored after
+        the call (:mod:`radial_ibvs_agents.learned.files.threads` says why, and that it is not
+        thread-safe).
+
         Raises
         ------
         KeyError
@@ -137,11 +143,12 @@ class LearnedPolicy:
                 f"{self.name} needs observation keys {missing}: make the env with {self.env_kwargs}"
             )
         normalised = self._normalise(observation)
-        if deterministic and state is None:
-            action = self._mean_action(normalised)
-            if action is not None:
-                return action, None
-        action, state = self.model.predict(normalised, state, episode_start, deterministic)
+        with threads_for(_rows(normalised, self.model.observation_space)):
+            if deterministic and state is None:
+                action = self._mean_action(normalised)
+                if action is not None:
+                    return action, None
+            action, state = self.model.predict(normalised, state, episode_start, deterministic)
         return np.asarray(action, dtype=np.float32), state
 
     def _mean_action(self, observation: dict[str, np.ndarray]) -> np.ndarray | None:
@@ -400,3 +407,11 @@ def _load_sb3_zip(zip_path: Path, metadata: dict[str, Any], label: str) -> Any:
         pickle.UnpicklingError,
     ) as error:
         raise ValueError(f"model {label}: {zip_path} is corrupt: {str(error)[:300]}") from None
+
+
+def _rows(observation: dict[str, np.ndarray], space: Any) -> int:
+    """Return how many observations a (batched) observation holds (1 for one)."""
+    for key, sub in getattr(space, "spaces", {}).items():
+        value = np.asarray(observation[key])
+        return int(value.shape[0]) if value.ndim > len(sub.shape) else 1
+    return 1
