@@ -28,8 +28,10 @@ bracket: a table of the grid's own roots over the point's direction and inverse 
 once per mirror and pinhole, :func:`_first_guess_table`) interpolates a first guess, and a bracket
 of the table's measured error about it is refined by the same Illinois iterations. A point whose
 cell is not smooth (a corner without a root, or a bracket wider than half the grid's step), that
-is nearer than ``TABLE_NEAR``, or whose bracket holds no valid sign change, goes to the grid. Each
-point takes one path whatever the other points, so the bits stay batch-independent.
+is nearer than ``TABLE_NEAR``, or whose bracket holds no valid sign change, goes to the grid; a
+point whose cell and its neighbours have no root at any node or middle has none (NaN at once:
+outside the field of view). Each point takes one path whatever the other points, so the bits
+stay batch-independent.
 """
 
 from __future__ import annotations

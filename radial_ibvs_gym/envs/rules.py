@@ -420,7 +420,7 @@ def info_values(
             "position_error_m": np.asarray(errors[0]).astype(np.float64),
             "heading_error_deg": np.degrees(errors[1]),
             "is_success": np.asarray(success, dtype=bool),
-            "reached": np.asarray(reached, dtype=bool),
+            "reached": np.broadcast_to(np.asarray(reached, dtype=bool), errors[0].shape).copy(),
             "collision": np.asarray(collision, dtype=bool),
             "lost": np.asarray(lost, dtype=bool),
             "n_visible": np.asarray(n_visible, dtype=np.int64),

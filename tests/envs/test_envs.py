@@ -510,6 +510,7 @@ def test_reset_and_step_give_the_same_info_keys_all_numbers(env_id: str) -> None
     _, _, _, _, at_step = vec.step(vec.action_space.sample())
     assert set(at_reset) == set(at_step)
     assert all(isinstance(v, np.ndarray) for v in at_step.values())
+    assert at_reset["reached"].shape == at_step["reached"].shape == (2,)
 
 
 def test_a_goal_image_averaged_over_frames_is_closer_to_the_true_one() -> None:
