@@ -198,14 +198,13 @@ class ParkingConfig:
             "task", "max_landmarks", "min_visible", "goal_image_frames", "success_hold_steps",
         ):  # fmt: skip
             value = getattr(self, name)
-            if value is None and name == "success_hold_steps":  # None: a park, 1 s held
-                object.__setattr__(self, name, park_hold_steps(self.control_dt))
-                continue
-            if value is None and name in ("task", "max_landmarks"):
-                continue  # None: drawn per episode, or no slots
+            if value is None and name in ("task", "max_landmarks", "success_hold_steps"):
+                continue  # None: drawn per episode, no slots, or a park (resolved below)
             if isinstance(value, bool) or not isinstance(value, int):
                 raise ValueError(f"{name} must be an integer, got {value!r}")
         self._check_before_loading({f.name: getattr(self, f.name) for f in _CHECKED})
+        if self.success_hold_steps is None:  # a park: 1 s held, at this control period
+            object.__setattr__(self, "success_hold_steps", park_hold_steps(self.control_dt))
         n = self.scenario.n_landmarks
         if self.task is not None and not (0 <= self.task < self.scenario.n_tasks):
             raise ValueError(f"task must be in 0..{self.scenario.n_tasks - 1}, got {self.task!r}")

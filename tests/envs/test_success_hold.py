@@ -135,3 +135,12 @@ def test_parking_goal_keeps_compute_reward_and_ends_at_the_park() -> None:
     assert held[-10][0] and not any(s for _, s, _ in held[:-1])
     # the same trajectory up to the pass: the same rewards, step for step
     assert [r for _, _, r in held[: len(passed)]] == [r for _, _, r in passed]
+
+
+@pytest.mark.parametrize("control_dt", [0.0, float("nan"), -0.1])
+def test_a_bad_control_period_is_named_before_the_hold_is_resolved(control_dt: float) -> None:
+    from radial_ibvs_gym.envs.config import ParkingConfig
+    from radial_ibvs_gym.scenarios import load_scenario
+
+    with pytest.raises(ValueError, match="control_dt"):
+        ParkingConfig(scenario=load_scenario("paper-sim"), control_dt=control_dt)
