@@ -361,3 +361,14 @@ def test_a_rerun_with_fewer_policies_keeps_the_other_rows(tmp_path: Path, capsys
     key = lambda r: (r["policy"], r["suite"], r["variant"], r["seed"])  # noqa: E731
     assert sorted(map(key, second)) == sorted(map(key, first))  # oracle's rows kept
     assert {r["policy"] for r in second} == {"ibvs", "oracle"}
+
+
+def test_the_benchmark_command_says_the_rule_it_judged_by(tmp_path: Path, capsys) -> None:
+    base = ["benchmark", "--suites", "paper", "--policies", "ibvs", "--episodes", "1"]
+    assert main([*base, "--no-progress", "--out", str(tmp_path / "park")]) == 0
+    out = capsys.readouterr().out
+    assert "success: a park: the pose within 2 cm and 2 deg of the goal, held 10 steps" in out
+    assert (tmp_path / "park" / "summary.md").read_text().startswith("Success: a park")
+    held = [*base, "--success-hold-steps", "1", "--no-progress", "--out", str(tmp_path / "pass")]
+    assert main(held) == 0
+    assert "success: a pass: the first step within 2 cm" in capsys.readouterr().out
