@@ -61,3 +61,16 @@ def test_the_callers_threads_come_back_after_an_error(caller_threads: int) -> No
     with threads_for(SMALL_BATCH) as used:
         assert used == caller_threads
     assert threads.__doc__ is not None and "not thread-safe" in threads.__doc__
+
+
+def test_the_rows_of_an_observation_are_counted_for_dict_and_box_spaces() -> None:
+    from gymnasium import spaces
+
+    from radial_ibvs_agents.learned.files.loading import _rows
+
+    points = spaces.Dict({"points": spaces.Box(-1.0, 1.0, (4,))})
+    assert _rows({"points": np.zeros(4)}, points) == 1
+    assert _rows({"points": np.zeros((7, 4))}, points) == 7
+    image = spaces.Box(0, 255, (2, 84, 84), dtype=np.uint8)
+    assert _rows(np.zeros((2, 84, 84)), image) == 1
+    assert _rows(np.zeros((5, 2, 84, 84)), image) == 5

@@ -409,9 +409,17 @@ def _load_sb3_zip(zip_path: Path, metadata: dict[str, Any], label: str) -> Any:
         raise ValueError(f"model {label}: {zip_path} is corrupt: {str(error)[:300]}") from None
 
 
-def _rows(observation: dict[str, np.ndarray], space: Any) -> int:
-    """Return how many observations a (batched) observation holds (1 for one)."""
-    for key, sub in getattr(space, "spaces", {}).items():
-        value = np.asarray(observation[key])
-        return int(value.shape[0]) if value.ndim > len(sub.shape) else 1
-    return 1
+def _rows(observation: Any, space: Any) -> int:
+    """Return how many observations a (batched) observation holds (1 for one).
+
+    A Dict observation is read by its first key; a Box one by its own shape.
+    """
+    spaces = getattr(space, "spaces", None)
+    if isinstance(spaces, dict) and spaces:
+        key, sub = next(iter(spaces.items()))
+        value, shape = np.asarray(observation[key]), sub.shape
+    else:
+        value, shape = np.asarray(observation), getattr(space, "shape", None)
+    if shape is None or value.ndim <= len(shape):
+        return 1
+    return int(value.shape[0])
