@@ -43,6 +43,7 @@ __all__ = [
     "group_rows",
     "hold_steps",
     "judging_rule",
+    "judging_rules",
     "load_rows",
     "ordered_policies",
     "success_summaries",
@@ -185,6 +186,12 @@ def judging_rule(hold: int, control_dt: float = 0.1) -> str:
             f"({hold * control_dt:g} s)"
         )
     return f"a pass: the first step within {window} (the older rule; the pose need not stay)"
+
+
+def judging_rules(rows: Sequence[Mapping[str, Any]]) -> list[str]:
+    """Return :func:`judging_rule` for each ``success_hold_steps`` among the rows, in order."""
+    holds = sorted({int(row.get("success_hold_steps", 1)) for row in rows})
+    return [judging_rule(hold) for hold in holds]
 
 
 def wilson_interval(successes: int, n: int, z: float = 1.959963984540054) -> tuple[float, float]:

@@ -11,7 +11,7 @@ Frames (see ``docs/conventions.md``): points are given in the *camera frame*, wh
 nominal pinhole on the mirror axis and whose z axis is the mirror axis, pointing up at the
 mirror. The mirror frame is the camera frame shifted by ``camera_z`` along z.
 
-About 570 lines, one camera model: the forward and backward projections, visibility and the
+About 600 lines, one camera model: the forward and backward projections, visibility and the
 imperfections all read the same mirror geometry, and each step cites the equation it
 implements.
 """

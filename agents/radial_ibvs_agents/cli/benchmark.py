@@ -15,7 +15,7 @@ from radial_ibvs_agents.cli._options import (
     policies_help,
     suites_help,
 )
-from radial_ibvs_agents.rows import LIMITS, judging_rule
+from radial_ibvs_agents.rows import LIMITS, judging_rules
 
 __all__ = ["BASELINES", "add_parser", "policies_to_run", "run"]
 
@@ -155,9 +155,8 @@ def run(args: argparse.Namespace) -> int:
     if not console.is_terminal:  # piped or redirected: every column, however wide
         console = Console(width=10_000)
     console.print(rich_table(summary_rows(results)))
-    holds = sorted({int(r.get("success_hold_steps", 1)) for res in results for r in res.rows})
-    for hold in holds:
-        print(f"success: {judging_rule(hold)}")
+    for rule in judging_rules([row for result in results for row in result.rows]):
+        print(f"success: {rule}")
     for result in results:
         if result.skipped:
             print(f"skipped {result.job.policy} on {result.job.variant.suite}: {result.skipped}")

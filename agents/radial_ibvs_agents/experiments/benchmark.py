@@ -27,7 +27,7 @@ from radial_ibvs_agents.experiments.store import ChunkStore
 from radial_ibvs_agents.experiments.suites import Variant, suite_variants
 from radial_ibvs_agents.experiments.tables import markdown_table, write_rows_csv
 from radial_ibvs_agents.io import write_atomic, write_json
-from radial_ibvs_agents.rows import add_limits, judging_rule, load_rows, summarise
+from radial_ibvs_agents.rows import add_limits, judging_rules, load_rows, summarise
 from radial_ibvs_gym.envs.config import MAX_HOLD_STEPS, ParkingConfig
 from radial_ibvs_gym.envs.rules import park_hold_steps
 
@@ -284,8 +284,7 @@ def write_outputs(results: Sequence[JobResult], out_dir: Path | str) -> list[Pat
         for r in results
         if r.skipped
     ]
-    holds = sorted({int(row.get("success_hold_steps", 1)) for row in rows})
-    rules = "; ".join(judging_rule(hold) for hold in holds) or "none run"
+    rules = "; ".join(judging_rules(rows)) or "none run"
     table = f"Success: {rules}.\n\n" + markdown_table(summaries)
     if skipped:
         table += "\nSkipped:\n" + "\n".join(skipped) + "\n"
