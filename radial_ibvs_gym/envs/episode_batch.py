@@ -42,6 +42,11 @@ class EpisodeBatch:
         ``(n, N)`` the landmarks on the floor plane, complex ``x + i y``.
     landmarks_w
         ``(n, N, 3)`` the landmarks in the world frame (the imperfect camera's input).
+    present
+        ``(n, N)`` which landmarks each episode has (a drawn landmark count leaves the rest
+        absent: never visible).
+    camera_heights
+        ``(n,)`` each episode's camera height, metres.
     bounds
         ``(2, n, N)`` the current camera's visible interval of horizontal distances (an ideal
         camera's; zeros for a camera with imperfections).
@@ -64,6 +69,8 @@ class EpisodeBatch:
         self.setups: list[EpisodeSetup | None] = [None] * n
         self.landmarks_c = np.zeros((n, nl), dtype=np.complex128)
         self.landmarks_w = np.zeros((n, nl, 3))
+        self.present = np.ones((n, nl), dtype=bool)
+        self.camera_heights = np.zeros(n)
         self.bounds = np.zeros((2, n, nl))
         self.goals = np.zeros((n, 3))
         self.privileged_goals = np.zeros((n, 3))
@@ -82,7 +89,9 @@ class EpisodeBatch:
         episode = setup.episode
         self.setups[i] = setup
         self.landmarks_c[i] = setup.landmarks_c
-        self.landmarks_w[i] = episode.landmarks
+        self.landmarks_w[i] = setup.points_w
+        self.present[i] = True if setup.present is None else setup.present
+        self.camera_heights[i] = episode.camera_height
         bounds = setup.radius_bounds["current"]
         if bounds is not None:
             self.bounds[0, i], self.bounds[1, i] = bounds

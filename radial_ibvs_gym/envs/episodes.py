@@ -67,6 +67,12 @@ class EpisodeSetup:
         ``(3,)`` the *image goal* (``privileged_goal="image"``): the pose whose noise-free
         image through the episode's camera matches the goal image
         (:meth:`EpisodeSource.image_goal`); else ``None``.
+    landmarks
+        ``(N, 3)`` the landmarks the env observes, metres: the episode's, then (a scenario
+        that draws its landmark count) copies of the first that are never visible, up to the
+        scenario's most. ``None``: the episode's own.
+    present
+        ``(N,)`` which of ``landmarks`` the episode has (``None``: all).
     """
 
     episode: Episode
@@ -82,6 +88,13 @@ class EpisodeSetup:
     slot_order: np.ndarray | None = None
     missed: MissedState | None = None
     image_goal: np.ndarray | None = None
+    landmarks: np.ndarray | None = None
+    present: np.ndarray | None = None
+
+    @property
+    def points_w(self) -> np.ndarray:
+        """``(N, 3)`` the landmarks the env observes (:attr:`landmarks`), metres."""
+        return self.episode.landmarks if self.landmarks is None else self.landmarks
 
     @property
     def privileged_goal(self) -> np.ndarray:
@@ -152,20 +165,23 @@ class EpisodeSource:
         for attempt in range(attempts):
             episode = self._draw_episode(rng, task, options)
             cameras, drawn = self._episode_cameras(rng)
-            landmarks = episode.landmarks
-            heights = landmarks[:, 2] - self.config.scenario.config.camera_height
+            landmarks, present = self._observed(episode.landmarks)
+            heights = landmarks[:, 2] - episode.camera_height
             bounds: dict[str, tuple[np.ndarray, np.ndarray] | None] = {}
             for which, camera in cameras.items():
-                bounds[which] = self._radius_bounds(which, camera, heights)
+                bounds[which] = self._radius_bounds(which, camera, heights, present)
+            depths = self.config.scenario.goal_depths(episode)
             setup = EpisodeSetup(
                 episode=episode,
-                goal_depths=self.config.scenario.goal_depths(episode),
+                goal_depths=np.pad(depths, (0, len(landmarks) - len(depths))),
                 landmarks_c=landmarks[:, 0] + 1j * landmarks[:, 1],
                 radius_bounds=bounds,
                 goal_points=np.zeros((len(landmarks), 2)),
                 goal_visible=np.zeros(len(landmarks), dtype=bool),
                 cameras=cameras,
                 imperfections=drawn,
+                landmarks=None if present is None else landmarks,
+                present=present,
             )
             if self._detector is not None:
                 setup.goal_points, setup.goal_visible = self._detector.reset(
@@ -189,7 +205,7 @@ class EpisodeSource:
         if self.config.privileged_goal == "image":  # noise-free images: no draw from rng
             setup.image_goal = self.image_goal(setup)
         if self.config.missed_detections is not None:
-            setup.missed = self.config.missed_detections.start(rng, len(setup.episode.landmarks))
+            setup.missed = self.config.missed_detections.start(rng, len(setup.points_w))
         if self.config.slot_order == "random":  # the last draw: the episode is the same as fixed's
             assert self.config.slots is not None
             setup.slot_order = self.config.slots.draw_order(rng)
@@ -252,17 +268,37 @@ class EpisodeSource:
             cameras["goal"] = goal_spec.build(goal_drawn)
         return cameras, drawn
 
+    def _observed(self, landmarks: np.ndarray) -> tuple[np.ndarray, np.ndarray | None]:
+        """Return the ``(N, 3)`` landmarks the env observes and which the episode has.
+
+        A scenario that draws its landmark count gives episodes fewer than the most it draws;
+        the env's arrays keep the most, filled with copies of the first landmark that no
+        camera sees (:meth:`_radius_bounds`, :meth:`image`). ``None``: every one is present.
+        """
+        n = self.config.scenario.n_landmarks
+        if len(landmarks) == n:
+            return landmarks, None
+        present = np.arange(n) < len(landmarks)
+        filled = np.concatenate([landmarks, np.repeat(landmarks[:1], n - len(landmarks), 0)])
+        return filled, present
+
     def _radius_bounds(
-        self, which: str, camera: Any, heights: np.ndarray
+        self, which: str, camera: Any, heights: np.ndarray, present: np.ndarray | None
     ) -> tuple[np.ndarray, np.ndarray] | None:
         """Return the camera's visible distance interval per landmark height (None: imperfect).
 
-        Cached per camera for scenarios with fixed landmarks (the same heights every episode).
+        Cached per camera for scenarios with fixed landmarks and camera height (the same
+        heights every episode). An absent landmark (``present`` False) gets an empty interval.
         """
         if camera.imperfections.any:
             return None
-        if self.config.scenario.config.random_landmarks is not None:
-            return camera.visible_radius_bounds(heights)
+        config = self.config.scenario.config
+        fixed = config.random_landmarks is None and len(set(config.camera_height_range)) == 1
+        if not fixed:
+            lo, hi = camera.visible_radius_bounds(heights)
+            if present is not None:
+                lo, hi = np.where(present, lo, np.inf), np.where(present, hi, -np.inf)
+            return lo, hi
         if which not in self._bounds_cache:
             self._bounds_cache[which] = camera.visible_radius_bounds(heights)
         return self._bounds_cache[which]
@@ -311,11 +347,15 @@ class EpisodeSource:
         if bounds is not None:
             return radial_image(setup.landmarks_c, bounds[0], bounds[1], pose)
         camera = setup.cameras[which]
-        h = self.config.scenario.config.camera_height
-        p_cam = world_to_camera(setup.episode.landmarks, pose, h, validate=False)
+        h = setup.episode.camera_height
+        p_cam = world_to_camera(setup.points_w, pose, h, validate=False)
         frames = self.config.goal_image_frames if which == "goal" else 1
         if frames == 1:
-            return camera_image(camera, p_cam, rng)
+            points, visible = camera_image(camera, p_cam, rng)
+            if setup.present is not None:
+                visible &= setup.present
+                points[~visible] = 0.0
+            return points, visible
         # a robot parked at the goal grabs many noisy frames: each landmark's mean direction
         # over the frames that see it (seen in at least half of them). One batched projection
         # of the frames draws the noise as that many calls of camera_image would, in order
@@ -325,6 +365,8 @@ class EpisodeSource:
         seen = np.sum(seen_by, axis=0)
         total = np.sum(shots, axis=0)
         visible = seen * 2 >= frames
+        if setup.present is not None:
+            visible &= setup.present
         norm = np.linalg.norm(total, axis=-1, keepdims=True)
         points = np.where(visible[:, None], total / np.maximum(norm, 1e-300), 0.0)
         return points, visible
@@ -340,12 +382,13 @@ class EpisodeSource:
         obstacles = np.zeros((self.config.map_obstacles, 3))
         given = np.asarray(episode.obstacles, dtype=np.float64).reshape(-1, 3)
         obstacles[: len(given)] = given
-        k = len(episode.landmarks) if self.config.slots is None else self.config.slots.m
+        n = self.config.scenario.n_landmarks
+        k = n if self.config.slots is None else self.config.slots.m
         landmarks = np.asarray(episode.landmarks, dtype=np.float64)
         padded = np.zeros((k, 3))
         padded[: len(landmarks)] = landmarks
         ranges = np.zeros((k, 2))
-        heights = landmarks[:, 2] - self.config.scenario.config.camera_height
+        heights = landmarks[:, 2] - episode.camera_height
         bounds = self._nominal_camera.visible_radius_bounds(heights)
         if bounds is not None:  # an on-axis convex mirror (every shipped camera)
             ranges[: len(landmarks), 0] = bounds[0]

@@ -89,6 +89,7 @@ def observation(
     landmarks: NDArray[np.complex128] | None = None,
     slots: Slots | None = None,
     slot_order: NDArray[np.intp] | None = None,
+    present: NDArray[np.bool_] | None = None,
 ) -> dict[str, NDArray[Any]]:
     """Build the ``Parking-v0`` observation dict, in the spaces' dtypes (``(...)`` leading dims).
 
@@ -115,6 +116,10 @@ def observation(
     slot_order
         With ``slots``: ``(..., N)`` the slot of each landmark (``None``: landmark ``n`` in
         slot ``n``; :meth:`~radial_ibvs_gym.envs.slots.Slots.pad`).
+    present
+        ``(..., N)`` which landmarks the episode has (a drawn landmark count; ``None``: all).
+        The absent ones have privileged ``depths`` of 0 and, with ``slots``, a
+        ``landmark_mask`` of 0.
     """
     obs: dict[str, NDArray[Any]] = {
         "points": np.asarray(points, dtype=np.float32),
@@ -131,8 +136,11 @@ def observation(
         obs["robot_pose"] = pose.copy()
         obs["goal_pose"] = np.asarray(goal_pose, dtype=np.float64).copy()
         position = pose[..., 0:1] + 1j * pose[..., 1:2]
-        obs["depths"] = np.abs(landmarks - position).astype(np.float32)
-    return obs if slots is None else slots.pad(obs, slot_order)
+        depths = np.abs(landmarks - position)
+        if present is not None:
+            depths = np.where(present, depths, 0.0)
+        obs["depths"] = depths.astype(np.float32)
+    return obs if slots is None else slots.pad(obs, slot_order, present)
 
 
 def goal_observation(

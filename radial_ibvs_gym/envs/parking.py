@@ -199,10 +199,17 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.render_mode = render_mode
         self._detector: DetectedPoints | None = None
         if config.measurement == "detected":
+            drawn = config.scenario.config.random_landmarks
+            if drawn is not None and drawn.count_range[0] != drawn.count_range[1]:
+                raise ValueError(
+                    f"measurement='detected' labels a fixed number of beacons; scenario "
+                    f"{config.scenario.config.name!r} draws random_landmarks.count "
+                    f"{list(drawn.count_range)} per episode"
+                )
             self._detector = DetectedPoints(
                 config.scenario.camera,
                 config.scenario.goal_camera,
-                config.scenario.config.camera_height,
+                config.scenario.config.fixed_camera_height("measurement='detected'"),
                 image_size=config.image_size,
                 beacon_radius=config.beacon_radius,
                 quality=ImageQuality(config.image_noise, config.image_blur, config.exposure),
@@ -483,6 +490,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
             landmarks=self._setup.landmarks_c if config.privileged else None,
             slots=config.slots,
             slot_order=self._setup.slot_order,
+            present=self._setup.present,
         )
 
     def _info(

@@ -281,7 +281,7 @@ class ParkingGoalEnv(GoalReward, ParkingEnv):
             )
             obs["goal_depths"] = self._setup.goal_depths
         if self.slots is not None:
-            obs = self.slots.pad(obs, self._setup.slot_order)
+            obs = self.slots.pad(obs, self._setup.slot_order, self._setup.present)
         return seen.goal_observation(
             obs["points"], obs["visible"], obs["goal_points"], obs.get("depths"),
             obs.get("goal_depths"),
@@ -332,7 +332,8 @@ class ParkingGoalVectorEnv(GoalReward, ParkingVectorEnv):
             obs["depths"] = depth_observation(t, landmarks, poses, self._visible[idx])
             obs["goal_depths"] = batch.goal_depths[idx]
         if t.slots is not None:
-            obs = t.slots.pad(obs, batch.slot_orders[idx] if t.slot_order == "random" else None)
+            order = batch.slot_orders[idx] if t.slot_order == "random" else None
+            obs = t.slots.pad(obs, order, None if batch.present.all() else batch.present[idx])
         return seen.goal_observation(
             obs["points"], obs["visible"], obs["goal_points"], obs.get("depths"),
             obs.get("goal_depths"),

@@ -81,7 +81,7 @@ class ParkingImageEnv(ParkingEnv):
             raise ValueError(f"beacon_radius must be positive (metres), got {beacon_radius!r}")
         self.beacon_radius = float(beacon_radius)
         self.quality = ImageQuality(image_noise, image_blur, exposure)
-        height = self.scenario.config.camera_height
+        height = self.scenario.config.fixed_camera_height("ParkingImage-v0's renderer")
         self._image_renderer = OmniRenderer(self.scenario.camera, image_size, height)
         self._goal_renderer = (
             OmniRenderer(self.scenario.goal_camera, image_size, height)

@@ -376,11 +376,15 @@ class ParkingVectorEnv(VectorEnv):
             rows = indices.tolist()
             cameras = [self._setup(i).cameras["current"] for i in rows]
             rngs = [self._rngs[i] for i in rows]
-            height = self.config.scenario.config.camera_height
+            heights = batch.camera_heights[indices, None]  # (k, 1): each robot's height
             p_cam = world_to_camera(
-                batch.landmarks_w[indices], poses[indices], height, validate=False
+                batch.landmarks_w[indices], poses[indices], heights, validate=False
             )
             points, visible = measurement.camera_images(cameras, p_cam, rngs)
+            present = batch.present[indices]
+            if not present.all():  # a drawn landmark count: the absent are never visible
+                visible &= present
+                points[~visible] = 0.0
             self._points[indices], self._visible[indices] = points, visible
         if self.config.missed_detections is not None:
             for i in indices.tolist():
@@ -417,6 +421,7 @@ class ParkingVectorEnv(VectorEnv):
             landmarks=batch.landmarks_c[idx] if t.privileged else None,
             slots=t.slots,
             slot_order=batch.slot_orders[idx] if t.slot_order == "random" else None,
+            present=None if batch.present.all() else batch.present[idx],
         )
         if t.privileged_map:
             setups = [self.batch.setups[i] for i in np.arange(self.num_envs)[idx].tolist()]

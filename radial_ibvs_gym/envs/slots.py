@@ -75,7 +75,10 @@ class Slots:
         return rng.permutation(self.m)[: self.n].astype(np.intp)
 
     def pad(
-        self, obs: dict[str, NDArray[Any]], order: NDArray[np.intp] | None = None
+        self,
+        obs: dict[str, NDArray[Any]],
+        order: NDArray[np.intp] | None = None,
+        present: NDArray[np.bool_] | None = None,
     ) -> dict[str, NDArray[Any]]:
         """Return ``obs`` with its landmark axes padded to ``M`` and ``landmark_mask`` added.
 
@@ -86,6 +89,10 @@ class Slots:
         order
             ``None``: landmark ``n`` in slot ``n``. Else ``(N,)`` or ``(..., N)`` the slot of
             each landmark (:meth:`draw_order`; one row per leading index).
+        present
+            ``None``: every landmark of the scene is in ``landmark_mask``. Else ``(N,)`` or
+            ``(..., N)``: which landmarks the episode has (a drawn landmark count); the absent
+            ones' slots are 0 in ``landmark_mask``, as padding.
         """
         lead = obs["visible"].shape[:-1]
         if order is not None:
@@ -117,4 +124,10 @@ class Slots:
             mask = np.zeros((*lead, self.m), dtype=np.float32)
             np.put_along_axis(mask, order, 1.0, axis=-1)
             out["landmark_mask"] = mask
+        if present is not None:
+            has = np.broadcast_to(np.asarray(present, dtype=np.float32), (*lead, self.n))
+            slots = np.broadcast_to(np.arange(self.n), (*lead, self.n)) if order is None else order
+            in_slot = np.zeros((*lead, self.m), dtype=np.float32)
+            np.put_along_axis(in_slot, slots, has, axis=-1)
+            out["landmark_mask"] *= in_slot
         return out

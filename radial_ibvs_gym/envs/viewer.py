@@ -114,7 +114,7 @@ class ParkingRenderer:
         self.figure.set_layout_engine("none")
 
     def _pixels(self, pose: np.ndarray, camera: Any) -> np.ndarray:
-        p_cam = world_to_camera(self.episode.landmarks, pose, self.scenario.config.camera_height)
+        p_cam = world_to_camera(self.episode.landmarks, pose, self.episode.camera_height)
         return np.asarray(camera.forward(p_cam).pixels)
 
     def frame(self, pose: np.ndarray, trail: list[np.ndarray], status: str = "") -> np.ndarray:

@@ -15,7 +15,11 @@ __all__ = ["pose_in_frame", "relative_pose", "world_to_camera"]
 
 
 def world_to_camera(
-    points_world: ArrayLike, pose: ArrayLike, camera_height: float, *, validate: bool = True
+    points_world: ArrayLike,
+    pose: ArrayLike,
+    camera_height: float | NDArray[np.float64],
+    *,
+    validate: bool = True,
 ) -> NDArray[np.float64]:
     """Express world points in the camera frame of a robot at a planar pose.
 
@@ -32,7 +36,8 @@ def world_to_camera(
     pose
         ``(..., 3)`` robot poses ``(x, y, yaw)`` in metres and radians.
     camera_height
-        Height of the camera's optical centre above the floor, metres.
+        Height of the camera's optical centre above the floor, metres: one, or an array that
+        broadcasts against ``(..., N)`` (e.g. ``(B, 1)``, one per pose of a batch).
     validate
         Check shapes and finiteness (``False`` skips it on hot paths that guarantee them).
 

@@ -47,6 +47,9 @@ class Episode(NamedTuple):
     obstacles
         ``(K, 3)`` circular obstacles ``(x, y, radius)`` of this episode: the scenario's fixed
         ones, then the drawn ones.
+    camera_height
+        Height of the camera's optical centre above the floor in this episode, metres (drawn
+        when the scenario gives a range).
     """
 
     task: int
@@ -55,6 +58,7 @@ class Episode(NamedTuple):
     start: np.ndarray
     goal: np.ndarray
     obstacles: np.ndarray = _NO_OBSTACLES
+    camera_height: float = 1.8
 
 
 class Scenario:
@@ -78,7 +82,7 @@ class Scenario:
         self._fixed_landmarks = (
             np.array(config.landmarks, dtype=np.float64) if config.landmarks else None
         )
-        self._bounds: dict[int, tuple[np.ndarray, np.ndarray] | None] = {}
+        self._bounds: dict[tuple[int, float], tuple[np.ndarray, np.ndarray] | None] = {}
         self.camera: CatadioptricCamera = config.camera.build()
         self.goal_camera: CatadioptricCamera = (
             config.goal_camera.build() if config.goal_camera is not None else self.camera
@@ -89,7 +93,10 @@ class Scenario:
                     ("goal", task.goal, self.goal_camera),
                     ("start", task.start, self.camera),
                 ):
-                    if isinstance(spec, tuple):
+                    if (
+                        isinstance(spec, tuple)
+                        and config.camera_height_range[0] == (config.camera_height_range[1])
+                    ):
                         n = int(self.visible(np.array(spec), cam=cam).sum())
                         if n < config.min_visible_at_goal:
                             raise ValueError(
@@ -106,37 +113,49 @@ class Scenario:
 
     @property
     def n_landmarks(self) -> int:
-        """Number of landmarks per episode."""
+        """Number of landmarks the envs observe: the most an episode draws.
+
+        An episode that draws fewer (a ``random_landmarks.count`` range) fills the rest with
+        landmarks that are never visible (:class:`~radial_ibvs_gym.envs.episodes.EpisodeSetup`).
+        """
         c = self.config
-        return len(c.landmarks) if c.landmarks else c.random_landmarks.count  # type: ignore[union-attr]
+        return len(c.landmarks) if c.landmarks else c.random_landmarks.most  # type: ignore[union-attr]
 
     def visible(
         self,
         pose: np.ndarray,
         landmarks: np.ndarray | None = None,
         cam: CatadioptricCamera | None = None,
+        camera_height: float | None = None,
     ) -> np.ndarray:
-        """Visibility mask ``(N,)`` of the landmarks from a robot pose ``(x, y, yaw)``."""
+        """Visibility mask ``(N,)`` of the landmarks from a robot pose ``(x, y, yaw)``.
+
+        ``camera_height`` (metres) defaults to the scenario's, which must then be fixed.
+        """
         pts = np.asarray(self.config.landmarks) if landmarks is None else landmarks
-        p_cam = world_to_camera(pts, pose, self.config.camera_height)
+        if camera_height is None:
+            camera_height = self.config.fixed_camera_height("Scenario.visible without a height")
+        p_cam = world_to_camera(pts, pose, camera_height)
         return (cam or self.camera).visible(p_cam)
 
     def _visible_count(
-        self, pose: np.ndarray, landmarks: np.ndarray, cam: CatadioptricCamera
+        self, pose: np.ndarray, landmarks: np.ndarray, cam: CatadioptricCamera, height: float
     ) -> int:
         """Count what :meth:`visible` sees, for the arrays :meth:`sample` made.
 
         An on-axis camera sees a landmark iff its horizontal distance lies in an interval set
         by its height (:meth:`CatadioptricCamera.visible_radius_bounds`): computed once for
-        fixed landmarks, then two comparisons per landmark.
+        fixed landmarks and height, then two comparisons per landmark.
         """
-        heights = landmarks[:, 2] - self.config.camera_height
-        key = id(cam)
+        heights = landmarks[:, 2] - height
+        key = (id(cam), height)
         if self._fixed_landmarks is None or key not in self._bounds:
+            if self._fixed_landmarks is not None and len(self._bounds) >= 64:
+                self._bounds.clear()  # drawn heights: a bounded cache
             self._bounds[key] = cam.visible_radius_bounds(heights)
         bounds = self._bounds[key]
         if bounds is None:  # tilted, off-axis or concave: the exact test
-            p_cam = world_to_camera(landmarks, pose, self.config.camera_height, validate=False)
+            p_cam = world_to_camera(landmarks, pose, height, validate=False)
             return int(np.count_nonzero(cam.visible(p_cam, validate=False)))
         rho = np.hypot(landmarks[:, 0] - pose[0], landmarks[:, 1] - pose[1])
         return int(np.count_nonzero((rho > bounds[0]) & (rho < bounds[1])))
@@ -194,12 +213,15 @@ class Scenario:
         if spec is None:
             assert self._fixed_landmarks is not None
             return self._fixed_landmarks.copy()
-        # a point on the perimeter, uniform in arc length, then a height
+        # a count (drawn only for a range), a point on the perimeter, uniform in arc length,
+        # then a height
+        lo, hi = spec.count_range
+        count = lo if lo == hi else int(rng.integers(lo, hi + 1))
         w, d = room
-        u = rng.uniform(0.0, 2.0 * (w + d), spec.count)
+        u = rng.uniform(0.0, 2.0 * (w + d), count)
         x = np.select([u < w, u < w + d, u < 2 * w + d], [u, w, 2 * w + d - u], 0.0)
         y = np.select([u < w, u < w + d, u < 2 * w + d], [0.0, u - w, d], 2 * (w + d) - u)
-        z = rng.uniform(*spec.height, spec.count)
+        z = rng.uniform(*spec.height, count)
         return np.stack([x, y, z], axis=-1)
 
     def _inside(self, pose: np.ndarray, room: np.ndarray, obstacles: np.ndarray) -> bool:
@@ -283,6 +305,8 @@ class Scenario:
                 else np.array(c.room, dtype=np.float64)
             )
             landmarks = self._landmarks(room, rng)
+            lo, hi = c.camera_height_range
+            height = lo if lo == hi else float(rng.uniform(lo, hi))  # drawn only for a range
             obstacles = self._obstacles(room, rng)
             if reach < 1.0:
                 goal = self._pose(spec.goal, room, rng)
@@ -298,11 +322,11 @@ class Scenario:
             ):  # below 1, _near drew the distance within the scaled bounds
                 continue
             need = c.min_visible_at_goal
-            if self._visible_count(goal, landmarks, self.goal_camera) < need:
+            if self._visible_count(goal, landmarks, self.goal_camera, height) < need:
                 continue
-            if self._visible_count(start, landmarks, self.camera) < need:
+            if self._visible_count(start, landmarks, self.camera, height) < need:
                 continue
-            return Episode(task, room, landmarks, start, goal, obstacles)
+            return Episode(task, room, landmarks, start, goal, obstacles, float(height))
         raise ValueError(
             f"scenario {c.name!r}: no valid episode in {MAX_TRIES} draws (poses inside the room, "
             f"start-goal distance in [{c.min_start_goal_distance}, {c.max_start_goal_distance}] "
@@ -314,9 +338,7 @@ class Scenario:
 
         This is the only 3D knowledge the paper's controller may use (Section 4.1).
         """
-        p = world_to_camera(
-            episode.landmarks, episode.goal, self.config.camera_height, validate=False
-        )
+        p = world_to_camera(episode.landmarks, episode.goal, episode.camera_height, validate=False)
         return self.config.depth_scale * np.hypot(p[:, 0], p[:, 1])
 
 

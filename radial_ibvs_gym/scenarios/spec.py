@@ -158,22 +158,38 @@ class RandomLandmarks:
     Attributes
     ----------
     count
-        Number of landmarks (>= 3: the paper's features need at least 3 points).
+        Number of landmarks (>= 3: the paper's features need at least 3 points), or a
+        ``[low, high]`` range of integers drawn uniformly per episode. The envs observe
+        ``high`` landmarks; those an episode does not draw are never visible (and masked out
+        of ``landmark_mask`` with ``max_landmarks``).
     height
         ``[low, high]`` range of their height above the floor, metres.
     """
 
-    count: int = 8
+    count: int | tuple[int, int] = 8
     height: tuple[float, float] = (0.2, 2.4)
 
     def __post_init__(self) -> None:
-        if self.count < 3:
-            raise ValueError(f"count must be >= 3 landmarks, got {self.count!r}")
-        if self.count > MAX_LANDMARKS:
+        lo, hi = self.count_range
+        if not (isinstance(lo, int) and isinstance(hi, int)) or isinstance(lo, bool):
+            raise ValueError(f"count must be an integer or a [low, high] range, got {self.count!r}")
+        if not 3 <= lo <= hi:
+            raise ValueError(f"count must be >= 3 landmarks (low <= high), got {self.count!r}")
+        if hi > MAX_LANDMARKS:
             raise ValueError(
                 f"count must be at most MAX_LANDMARKS = {MAX_LANDMARKS}, got {self.count!r}"
             )
         _check_range(self.height, "height")
+
+    @property
+    def count_range(self) -> tuple[int, int]:
+        """The ``(low, high)`` landmark counts (``low == high`` for a fixed count)."""
+        return (self.count, self.count) if isinstance(self.count, int) else self.count
+
+    @property
+    def most(self) -> int:
+        """The largest number of landmarks an episode draws (the envs' landmark axis)."""
+        return self.count_range[1]
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -211,7 +227,9 @@ class ScenarioConfig:
     goal_camera
         Camera that took the goal image, if not ``camera`` (the paper's mirror-swap test).
     camera_height
-        Height of the camera's optical centre above the floor, metres.
+        Height of the camera's optical centre above the floor, metres, or a ``[low, high]``
+        range drawn uniformly per episode (:attr:`Episode.camera_height
+        <radial_ibvs_gym.scenarios.Episode>`).
     depth_scale
         Scale error on the goal depths ``d*`` given to the controller (the paper uses 1.3).
     min_visible_at_goal
@@ -234,7 +252,7 @@ class ScenarioConfig:
     wall_clearance: float = 0.5
     camera: CameraSpec = field(default_factory=CameraSpec)
     goal_camera: CameraSpec | None = None
-    camera_height: float = 1.8
+    camera_height: float | tuple[float, float] = 1.8
     depth_scale: float = 1.0
     min_visible_at_goal: int = 3
     robot: dict[str, Any] = field(default_factory=dict)
@@ -269,11 +287,12 @@ class ScenarioConfig:
             raise ValueError(
                 f"need 0 <= min_start_goal_distance < max_start_goal_distance, got {lo!r}, {hi!r}"
             )
-        for name in ("wall_clearance", "camera_height", "depth_scale"):
+        for name in ("wall_clearance", "depth_scale"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value > 0):
                 raise ValueError(f"{name} must be finite and positive, got {value!r}")
-        _check_world((self.wall_clearance, self.camera_height), "wall_clearance, camera_height")
+        _check_world((self.wall_clearance,), "wall_clearance")
+        _check_range(self.camera_height_range, "camera_height", positive=True)
         smallest = (
             min(self.random_room.width[0], self.random_room.depth[0])
             if self.random_room is not None
@@ -286,8 +305,36 @@ class ScenarioConfig:
             )
         if self.min_visible_at_goal < 3:
             raise ValueError(f"min_visible_at_goal must be >= 3, got {self.min_visible_at_goal!r}")
-        n = len(self.landmarks) if self.landmarks else self.random_landmarks.count  # type: ignore[union-attr]
+        n = len(self.landmarks) if self.landmarks else self.random_landmarks.count_range[0]  # type: ignore[union-attr]
         if self.min_visible_at_goal > n:
             raise ValueError(
                 f"min_visible_at_goal={self.min_visible_at_goal} exceeds the {n} landmarks"
             )
+
+    @property
+    def camera_height_range(self) -> tuple[float, float]:
+        """The ``(low, high)`` camera heights, metres (``low == high`` for a fixed height)."""
+        h = self.camera_height
+        return (h, h) if isinstance(h, int | float) else (float(h[0]), float(h[1]))
+
+    def fixed_camera_height(self, needs: str) -> float:
+        """Return the camera height of a scenario that fixes it, metres.
+
+        Parameters
+        ----------
+        needs
+            What needs one height for every episode (named in the error).
+
+        Raises
+        ------
+        ValueError
+            If the scenario draws the height per episode (a ``[low, high]`` range): then read
+            each episode's :attr:`~radial_ibvs_gym.scenarios.Episode.camera_height`.
+        """
+        lo, hi = self.camera_height_range
+        if lo != hi:
+            raise ValueError(
+                f"scenario {self.name!r} draws camera_height per episode ({[lo, hi]} m); "
+                f"{needs} needs one fixed height"
+            )
+        return float(lo)

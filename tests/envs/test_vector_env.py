@@ -404,3 +404,25 @@ def test_each_robot_meets_only_its_own_rooms_obstacles(physics: str) -> None:
         fleet.reset([1], rooms[:1], starts[:1], obstacles=[[[2.0, 3.0, 0.3]]])
     with pytest.raises(ValueError, match=r"obstacles\[0\] must be \(x, y, radius > 0\)"):
         fleet.reset([1], rooms[:1], starts[:1], obstacles=[[[5.0, 5.0, -1.0]]])
+
+
+@pytest.mark.parametrize("imperfect", [False, True])
+@pytest.mark.parametrize("env_id", ["RadialIBVS/Parking-v0", "RadialIBVS/ParkingGoal-v1"])
+def test_native_equals_sync_when_scenes_draw_landmark_counts_and_camera_heights(
+    env_id: str, imperfect: bool
+) -> None:
+    # each robot its own count and height: the absent landmarks and the heights per robot
+    kwargs: dict[str, Any] = {
+        "scenario": "random-unseen", "physics": "kinematic", "max_episode_steps": 60,
+        "max_landmarks": 16, "slot_order": "random",
+    }  # fmt: skip
+    if imperfect:
+        imperfections = {"principal_point_offset": [2.0, -1.0], "pixel_noise_std": 0.5}
+        kwargs["camera"] = {
+            "mirror": "A",
+            "non_central_offset": 0.01,
+            "imperfections": imperfections,
+        }
+    if env_id.endswith("Parking-v0"):
+        kwargs.update(obs_mode="features", goal_depths=True, privileged=True)
+    assert _run_both(env_id, 4, 150, "next_step", 0.0, **kwargs) > 0

@@ -10,7 +10,7 @@ from radial_ibvs_gym import paper
 from radial_ibvs_gym.config import ConfigError
 from radial_ibvs_gym.scenarios import load_scenario
 
-SHIPPED = ("paper-sim", "paper-lab", "random", "random-obstacles")
+SHIPPED = ("paper-sim", "paper-lab", "random", "random-obstacles", "random-unseen")
 
 
 def test_paper_sim_matches_the_paper_constants() -> None:
@@ -40,14 +40,17 @@ def test_episodes_satisfy_the_scenario_and_are_seeded(name: str) -> None:
         again = s.sample(np.random.default_rng(seed))
         for a, b in zip(e, again, strict=True):
             np.testing.assert_array_equal(a, b)
-        assert e.landmarks.shape == (s.n_landmarks, 3)
+        lo, hi = (len(c.landmarks),) * 2 if c.landmarks else c.random_landmarks.count_range
+        assert lo <= len(e.landmarks) <= hi == s.n_landmarks and e.landmarks.shape[1] == 3
+        assert c.camera_height_range[0] <= e.camera_height <= c.camera_height_range[1]
         for pose in (e.start, e.goal):
             assert c.wall_clearance <= pose[0] <= e.room[0] - c.wall_clearance
             assert c.wall_clearance <= pose[1] <= e.room[1] - c.wall_clearance
         dist = math.hypot(*(e.goal[:2] - e.start[:2]))
         assert c.min_start_goal_distance <= dist <= c.max_start_goal_distance
-        assert s.visible(e.goal, e.landmarks).sum() >= c.min_visible_at_goal
-        assert s.visible(e.start, e.landmarks).sum() >= c.min_visible_at_goal
+        for pose in (e.goal, e.start):
+            seen = s.visible(pose, e.landmarks, camera_height=e.camera_height)
+            assert seen.sum() >= c.min_visible_at_goal
 
 
 def test_random_landmarks_lie_on_the_walls() -> None:
@@ -101,7 +104,9 @@ def test_bad_scenarios_are_named(overrides: dict, match: str) -> None:
 
 def test_unknown_scenario_lists_the_shipped_ones() -> None:
     with pytest.raises(
-        ConfigError, match=r"available: \['paper-lab', 'paper-sim', 'random', 'random-obstacles'\]"
+        ConfigError,
+        match=r"available: \['paper-lab', 'paper-sim', 'random', 'random-obstacles', "
+        r"'random-unseen'\]",
     ):
         load_scenario("parking")
 

@@ -93,7 +93,7 @@ def measured_image(
     rng = np.random.default_rng(seed)
     episode = sc.sample(rng)
     pose = episode.start if pose is None else np.asarray(pose, dtype=np.float64)
-    height = sc.config.camera_height
+    height = episode.camera_height
     renderer = OmniRenderer(sc.camera, image_size, height)
     scene = room_scene(episode.room, episode.landmarks, beacon_radius)
     image = renderer.render(pose, scene, quality, rng)

@@ -165,7 +165,7 @@ def _pixels(env: gym.Env, log: EpisodeLog) -> dict[str, np.ndarray]:
 
     base: Any = env.unwrapped
     scenario, landmarks = base.scenario, base.episode.landmarks
-    h = scenario.config.camera_height
+    h = base.episode.camera_height
     p_cam = world_to_camera(landmarks, log.poses, h)  # (T + 1, N, 3)
     pixels = scenario.camera.forward(p_cam).pixels
     goal = scenario.goal_camera.forward(world_to_camera(landmarks, base.episode.goal, h)).pixels

@@ -7,7 +7,10 @@ Everything runs on the kinematic backend, except for the ``physics`` suite. The 
 suite (100 held-out random rooms per variant) sees them through a real camera: 1 px of pixel
 noise; a principal point 2 px and -1 px off with a focal ratio 1 % off; both; and
 imperfections drawn per episode (principal point up to 3 px, focal ratio up to 2 %, noise
-0.5-1 px).
+0.5-1 px). The ``unseen-scenes`` suite (200 episodes per variant) draws scenes from the
+held-out family ``random-unseen``: larger rooms, more landmarks and a lower camera than any
+training run saw, through the ideal camera and the real one (all imperfections; the goal
+image one frame, or averaged over 30).
 """
 
 from __future__ import annotations
@@ -73,6 +76,13 @@ def _imperfect(label: str, episodes: int = 100, **camera: Any) -> Variant:
     return Variant("imperfect", label, "random", overrides, episodes, False, HELD_OUT_SEED)
 
 
+def _unseen(label: str, **overrides: Any) -> Variant:
+    """Return a real-camera variant of ``unseen-scenes``: all imperfections together."""
+    camera = {**_RANDOM_CAMERA, "imperfections": {**_CALIBRATION, "pixel_noise_std": 1.0}}
+    overrides = {"physics": "kinematic", "camera": camera, **overrides}
+    return Variant("unseen-scenes", label, "random-unseen", overrides, 200, False, HELD_OUT_SEED)
+
+
 def _paper(suite: str, label: str, episodes: int = 8, **overrides: Any) -> Variant:
     return Variant(suite, label, "paper-sim", {"physics": "kinematic", **overrides}, episodes)
 
@@ -107,6 +117,21 @@ SUITES: dict[str, list[Variant]] = {
             False,
             HELD_OUT_SEED,
         ),
+    ],
+    # the held-out scene family: rooms, landmark counts and camera heights outside every
+    # training range (configs/scenarios/random-unseen.yaml), ideal and through a real camera
+    "unseen-scenes": [
+        Variant(
+            "unseen-scenes",
+            "unseen scenes",
+            "random-unseen",
+            {"physics": "kinematic"},
+            200,
+            False,
+            HELD_OUT_SEED,
+        ),
+        _unseen("unseen scenes, imperfect all together"),
+        _unseen("unseen scenes, imperfect all together, goal over 30 frames", goal_image_frames=30),
     ],
     "paper-lab": [
         Variant("paper-lab", "zero-shot", "paper-lab", {"physics": "kinematic"}, 8, False),

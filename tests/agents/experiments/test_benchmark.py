@@ -26,6 +26,7 @@ def test_every_suite_of_the_issue_exists_with_its_variants() -> None:
         "physics",
         "pixels",
         "held-out",
+        "unseen-scenes",
         "paper-lab",
         "cross-camera",
         "obstacles",
@@ -40,6 +41,13 @@ def test_every_suite_of_the_issue_exists_with_its_variants() -> None:
     assert "imperfection_ranges" in imperfect[3].overrides["camera"]
     assert imperfect[4].overrides["goal_image_frames"] == 30
     assert imperfect[4].overrides["camera"] == imperfect[2].overrides["camera"]
+    unseen = SUITES["unseen-scenes"]
+    assert all(v.scenario == "random-unseen" and v.seed_offset == 100_000 for v in unseen)
+    assert [v.episodes for v in unseen] == [200, 200, 200]
+    assert "camera" not in unseen[0].overrides
+    assert unseen[1].overrides["camera"] == unseen[2].overrides["camera"]
+    assert unseen[1].overrides["camera"] == imperfect[2].overrides["camera"]
+    assert unseen[2].overrides["goal_image_frames"] == 30
     measured = {v.overrides.get("measurement", "ideal") for v in SUITES["pixels"]}
     assert measured == {"ideal", "detected"}
     assert [v.label for v in SUITES["noise"]] == ["0.0 px", "0.5 px", "1.0 px", "2.0 px"]
