@@ -30,7 +30,6 @@ POLICIES = (
     "pbvs",
     "pbvs-ekf",
     "dagger-student",
-    "ppo-residual",
 )
 
 

@@ -26,7 +26,7 @@ import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from radial_ibvs_agents import load
 from radial_ibvs_agents.learned.files import threads
 
-MODELS = ("dagger-student", "ppo-residual")
+MODELS = ("dagger-student",)
 
 
 def _spin(stop: Any) -> None:

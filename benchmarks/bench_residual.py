@@ -32,7 +32,7 @@ from radial_ibvs_agents.learned.networks.residual import ResidualConfig, Residua
 from radial_ibvs_agents.learned.training.sb3_vec_env import make_vec_env
 
 ENV_ID = "RadialIBVS/Parking-v0"
-#: the env of the shipped residual model (configs/agents/ppo_residual.yaml)
+#: the env of the residual models (research/configs/ppo_residual.yaml)
 ENV_KWARGS: dict[str, Any] = {
     "scenario": "random",
     "physics": "kinematic",

@@ -128,7 +128,7 @@ def make_policy(name: str, *, trust_pickle: bool = False, **kwargs: Any) -> Poli
     name
         One of :data:`POLICY_NAMES` (``ibvs``, ``ibvs-current``, ``ibvs-mean``,
         ``ibvs-no-frame-change``, ``oracle``, ``random``), a shipped model's name
-        (:func:`radial_ibvs_agents.learned.shipped_models`, e.g. ``ppo-residual``) or a model
+        (:func:`radial_ibvs_agents.learned.shipped_models`, e.g. ``dagger-student``) or a model
         directory's path (``./my-model``: a bare name is never a folder, so none can shadow a
         shipped one).
     trust_pickle

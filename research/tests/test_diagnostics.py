@@ -120,3 +120,31 @@ def test_the_teacher_through_the_camera_is_handed_the_true_pose_by_an_ideal_one(
             obs, *_ = env.step(env.action_space.sample())
     env.close()
     assert checked >= 24
+
+
+def _load(name: str):
+    spec = importlib.util.spec_from_file_location(name, DIAGNOSTICS / f"{name}.py")
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    return script
+
+
+def test_the_pose_errors_are_against_the_true_goal_and_end_near_it():
+    failure_modes = _load("failure_modes")
+    ideal = SUITES["held-out"][0]
+    rows = np.array(failure_modes.pose_errors("ekf-planner", ideal, [10_000]))
+    assert rows.shape[1] == 5 and (rows >= 0).all()
+    # through the ideal camera the image's solve is the truth, and the episode parks
+    np.testing.assert_allclose(rows[:, 3], 0.0, atol=1e-6)
+    assert rows[-1, 0] < 0.02
+
+
+def test_the_failures_table_names_every_end(capsys: pytest.CaptureFixture[str]):
+    failure_modes = _load("failure_modes")
+    variant = next(v for v in SUITES["imperfect"] if v.label == "all together")
+    failure_modes.failure_ends("ibvs", variant, [10_000 + k for k in range(6)])
+    out = capsys.readouterr().out
+    assert out.startswith("| ibvs | parked ")
+    parked = int(out.split("parked ")[1].split("/")[0])
+    failed = sum(int(line.split(": ")[1].split(" |")[0]) for line in out.splitlines()[1:])
+    assert parked + failed == 6

@@ -28,7 +28,7 @@ def test_readme_has_two_quick_start_commands() -> None:
 
 def test_the_readme_is_a_front_door() -> None:
     """At most 150 lines; a GIF; one generated headline table of at most 6 rows, 7 policies
-    (both limits, the IBVS, pbvs, pbvs-ekf and the two shipped learned models)."""
+    (both limits, the IBVS and the best image-only policies, classical and learned)."""
     readme = (ROOT / "README.md").read_text()
     assert len(readme.splitlines()) <= 150
     assert re.search(r"!\[[^\]]*\]\(docs/img/[^)]+\.gif\)", readme)

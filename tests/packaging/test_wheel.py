@@ -35,8 +35,8 @@ def test_the_sdist_and_wheel_pass_the_release_checks(dist: Path) -> None:
     names = zipfile.ZipFile(wheel).namelist()
     for expected in (
         "radial_ibvs_gym/_configs/scenarios/paper-sim.yaml",
-        "radial_ibvs_agents/learned/models/ppo-residual/policy.safetensors",
-        "radial_ibvs_agents/learned/models/ppo-residual/policy.json",
+        "radial_ibvs_agents/learned/models/dagger-student/policy.safetensors",
+        "radial_ibvs_agents/learned/models/dagger-student/policy.json",
         "radial_ibvs_gym/py.typed",
     ):
         assert expected in names, expected
@@ -59,11 +59,11 @@ def test_the_installed_wheel_runs_the_demo_and_a_shipped_model(dist: Path, tmp_p
     work.mkdir()
     subprocess.run([*run, "demo"], check=True, cwd=work, env=env, capture_output=True)
     assert (work / "outputs" / "demo.png").is_file()
-    argv = [*run, "evaluate", "--policy", "ppo-residual", "--scenario", "paper-lab"]
+    argv = [*run, "evaluate", "--policy", "dagger-student", "--scenario", "paper-lab"]
     out = subprocess.run(
         [*argv, "--episodes", "2"], check=True, cwd=work, env=env, capture_output=True, text=True
     )
-    assert "ppo-residual on paper-lab" in out.stdout and "2 episodes" in out.stdout
+    assert "dagger-student on paper-lab" in out.stdout and "2 episodes" in out.stdout
 
 
 @pytest.mark.slow

@@ -50,7 +50,7 @@ def test_a_base_beside_the_config_or_in_the_shipped_trees_is_read(tmp_path: Path
     child = tmp_path / "child.yaml"
     child.write_text("base: parent.yaml\nb: 3\n")
     assert read_yaml_with_base(child) == {"a": 1, "b": 3}
-    overlay = ROOT / "research" / "configs" / "ppo_fine_tune_student.yaml"
+    overlay = ROOT / "research" / "configs" / "dagger_planner_set_line.yaml"
     assert isinstance(read_yaml_with_base(overlay), dict)  # ../../configs/agents/...
     outside = tmp_path / "sub" / "deeper.yaml"
     outside.parent.mkdir()
@@ -138,7 +138,7 @@ def test_a_trusted_pickle_is_loaded_with_a_warning() -> None:
     from radial_ibvs_agents.learned.files.loading import PickleLoadWarning
 
     with pytest.warns(PickleLoadWarning, match="through its pickles"):
-        load(MODELS_DIR / "ppo-residual" / "model.zip", trust_pickle=True)
+        load(MODELS_DIR / "dagger-student" / "model.zip", trust_pickle=True)
 
 
 def test_the_last_silent_or_raw_cases_are_named(tmp_path: Path) -> None:
@@ -184,7 +184,7 @@ def test_a_policy_description_or_statistics_file_that_lies_is_named(tmp_path: Pa
     from radial_ibvs_agents.learned import MODELS_DIR
 
     model = tmp_path / "model"
-    shutil.copytree(MODELS_DIR / "ppo-residual", model)
+    shutil.copytree(MODELS_DIR / "dagger-student", model)
     described = json.loads((model / "policy.json").read_text())
     (model / "policy.json").write_text(json.dumps({**described, "format_version": True}))
     with pytest.raises(ValueError, match="format_version True is unknown"):

@@ -40,7 +40,7 @@ from radial_ibvs_agents.untrusted import MAX_ARCHIVE_MEMBER_BYTES, UntrustedFile
 from radial_ibvs_gym.registration import UnknownEnvIdError, check_env_id
 
 ROOT = Path(__file__).resolve().parents[2]
-SHIPPED = "ppo-residual"
+SHIPPED = "dagger-student"
 #: the address space a bomb test's subprocess may use: loading a shipped model takes ~1.1 GB
 MEMORY_CAP = 3 << 30
 #: hypothesis examples per fuzz test; FUZZ_EXAMPLES=3000 for the long run

@@ -11,9 +11,9 @@ radians; x forward, y left), with its covariance ``P``, per robot.
   :func:`radial_ibvs_gym.physics.limit_command`) and the exact unicycle over ``dt``
   (:func:`radial_ibvs_gym.physics.integrate_unicycle`); the goal, fixed in the world, moves
   the other way in the robot's frame. ``F`` is that map's Jacobian, and the process noise
-  ``Q = diag(q_xy, q_xy, q_theta)`` with ``q_xy = (motion_std * |v| dt + 1e-4)^2`` and
-  ``q_theta = (motion_std * |omega| dt + 1e-4)^2``: a relative error ``motion_std`` of the
-  motion (wheel slip, the pymunk contacts).
+  ``Q = diag(q_xy, q_xy, q_theta)`` with ``q_xy = (motion_std * |v| dt + f)^2`` and
+  ``q_theta = (motion_std * |omega| dt + f)^2``, ``f = motion_floor`` (1e-4 m, rad): a
+  relative error ``motion_std`` of the motion (wheel slip, the pymunk contacts).
 - **Update**: the bearing ``beta_n = atan2(q_y, q_x)`` of each landmark seen now and in the
   goal image, with ``q_n = R(theta) p_n + t`` and ``p_n = d*_n x*_n`` the landmark in the
   goal's frame (from the goal image and the goal depths, as the IBVS uses them); the
@@ -54,6 +54,9 @@ class PBVSEKFPolicy(PBVSPolicy):
         Relative standard deviation of the robot's motion over a period.
     init_std_m, init_std_rad
         Standard deviations of the first pose solved from the image, metres and radians.
+    motion_floor
+        The process noise's floor per period, metres and radians: how far the filter lets
+        the pose wander between frames when the robot stands still.
     **oracle_kwargs
         The law's settings (:class:`~radial_ibvs_agents.analytic.pose_oracle.PoseOracle`).
 
@@ -72,10 +75,12 @@ class PBVSEKFPolicy(PBVSPolicy):
         motion_std: float = 0.05,
         init_std_m: float = 0.05,
         init_std_rad: float = 0.02,
+        motion_floor: float = 1e-4,
         **oracle_kwargs: Any,
     ) -> None:
         super().__init__(**oracle_kwargs)
         for name, value in (
+            ("motion_floor", motion_floor),
             ("control_dt", control_dt),
             ("bearing_std", bearing_std),
             ("motion_std", motion_std),
@@ -85,6 +90,7 @@ class PBVSEKFPolicy(PBVSPolicy):
             if not (math.isfinite(value) and value > 0):
                 raise ValueError(f"{name} must be finite and positive, got {value!r}")
         self.control_dt, self.bearing_std, self.motion_std = control_dt, bearing_std, motion_std
+        self.motion_floor = float(motion_floor)
         self.init_cov = np.diag([init_std_m**2, init_std_m**2, init_std_rad**2])
 
     def __repr__(self) -> str:
@@ -163,8 +169,9 @@ class PBVSEKFPolicy(PBVSPolicy):
             ],
             axis=-2,
         )
-        q_xy = (self.motion_std * np.abs(v) * dt + 1e-4) ** 2
-        q_theta = (self.motion_std * np.abs(omega) * dt + 1e-4) ** 2
+        floor = self.motion_floor
+        q_xy = (self.motion_std * np.abs(v) * dt + floor) ** 2
+        q_theta = (self.motion_std * np.abs(omega) * dt + floor) ** 2
         noise = np.zeros_like(cov)
         noise[:, 0, 0], noise[:, 1, 1], noise[:, 2, 2] = q_xy, q_xy, q_theta
         predicted = jacobian @ cov @ np.swapaxes(jacobian, -1, -2) + noise

@@ -9,6 +9,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from typing import Any
 
+from radial_ibvs_agents.analytic.ekf_planner import EKFPlanner
 from radial_ibvs_agents.analytic.filtered import FilteredPolicy
 from radial_ibvs_agents.analytic.ibvs_policy import IBVSPolicy
 from radial_ibvs_agents.analytic.ibvs_straight import StraightIBVSPolicy
@@ -39,6 +40,8 @@ ANALYTIC_POLICIES: dict[str, Callable[..., Any]] = {
     # position-based: the goal's pose solved from the image, the oracle's law on it
     "pbvs": lambda **kw: PBVSPolicy(**kw),
     "pbvs-ekf": lambda **kw: PBVSEKFPolicy(**kw),
+    # the planner's path on the filtered pose, in the room the goal image shows (image-only)
+    "ekf-planner": lambda **kw: EKFPlanner(**kw),
 }
 
 
@@ -57,9 +60,14 @@ DESCRIPTIONS: dict[str, str] = {
     "ibvs-straight-filtered": "ibvs-straight through a temporal filter of the image points",
     "pbvs": "position-based: the goal's pose solved from the image, eq. 38 on it",
     "pbvs-ekf": "pbvs on the pose filtered with the robot's own motion (an EKF)",
+    "ekf-planner": "the planner's path on pbvs-ekf's pose, in the room the goal image shows",
 }
 #: the ``pip install -e ".[EXTRA]"`` extra a policy needs beyond the core install
-EXTRAS: dict[str, str] = {"planner": "planning", "planner-image-goal": "planning"}
+EXTRAS: dict[str, str] = {
+    "planner": "planning",
+    "planner-image-goal": "planning",
+    "ekf-planner": "planning",
+}
 
 
 def make_analytic(name: str, **kwargs: Any) -> Any:

@@ -90,7 +90,6 @@ def policies_help() -> str:
 #: the shipped models, one line each (their metadata.json holds how each was made)
 SHIPPED = {
     "dagger-student": "shipped: learned end to end, distilled from the planner (DAgger)",
-    "ppo-residual": "shipped: PPO's bounded correction of ibvs-backward",
 }
 
 

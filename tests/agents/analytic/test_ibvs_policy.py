@@ -200,6 +200,7 @@ def test_registry_builds_every_contract_name_and_rejects_unknown_ones() -> None:
         "planner-image-goal",
         "pbvs",
         "pbvs-ekf",
+        "ekf-planner",
         "random",
     }
     for name in POLICY_NAMES:
@@ -215,6 +216,7 @@ def test_registry_builds_every_contract_name_and_rejects_unknown_ones() -> None:
             "planner",
             "planner-image-goal",
             "pbvs-ekf",
+            "ekf-planner",
             "random",
         )
         assert (state is not None) == (name in stateful), name

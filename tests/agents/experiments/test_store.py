@@ -32,11 +32,11 @@ def _lab(scenario: str = "paper-lab") -> Variant:
 
 def test_every_file_of_a_model_directory_is_in_the_key(tmp_path: Path) -> None:
     model = tmp_path / "model"
-    shutil.copytree(MODELS_DIR / "ppo-residual", model)
+    shutil.copytree(MODELS_DIR / "dagger-student", model)
     job = Job(str(model), _lab(), 2)
     before = job_key(job)
     metadata = json.loads((model / "metadata.json").read_text())
-    metadata["residual"]["scale"] = 0.25  # the edit that once reused every chunk
+    metadata["teacher_kwargs"]["line_speed"] = 0.1  # a metadata edit once reused every chunk
     (model / "metadata.json").write_text(json.dumps(metadata))
     edited = job_key(job)
     assert edited != before

@@ -41,9 +41,9 @@ CONFIG = Path(__file__).resolve().parents[3] / "configs" / "agents" / "ppo_parki
 
 @pytest.fixture
 def poisoned(tmp_path: Path) -> tuple[Path, Path]:
-    """A copy of the shipped ``ppo-residual`` whose ``model.zip`` carries a payload."""
+    """A copy of the shipped ``dagger-student`` whose ``model.zip`` carries a payload."""
     model = tmp_path / "ppo-poisoned"
-    shutil.copytree(MODELS_DIR / "ppo-residual", model)
+    shutil.copytree(MODELS_DIR / "dagger-student", model)
     marker = tmp_path / "marker"
     poison_zip(model / "model.zip", marker)
     (model / "vecnormalize.pkl").write_bytes(payload(marker))
@@ -118,8 +118,8 @@ def test_resume_needs_the_plain_observation_statistics(trained: Path, tmp_path: 
 
 
 def test_the_shipped_model_acts_as_its_sb3_zip_did() -> None:
-    safe = load("ppo-residual")
-    legacy = load(MODELS_DIR / "ppo-residual" / "model.zip", trust_pickle=True)
+    safe = load("dagger-student")
+    legacy = load(MODELS_DIR / "dagger-student" / "model.zip", trust_pickle=True)
     env = make_env(safe, "random", {"physics": "kinematic"})
     obs, _ = env.reset(seed=11)
     for t in range(150):
@@ -207,7 +207,7 @@ def test_trust_model_loads_a_folder_holding_only_an_sb3_zip(tmp_path: Path) -> N
 
 def test_altered_or_hostile_descriptions_are_refused(tmp_path: Path) -> None:
     model = tmp_path / "m"
-    shutil.copytree(MODELS_DIR / "ppo-residual", model)
+    shutil.copytree(MODELS_DIR / "dagger-student", model)
     described = json.loads((model / DESCRIPTION).read_text())
 
     def write(**changes: object) -> None:
@@ -248,7 +248,7 @@ def test_a_pickled_weights_file_is_a_value_error_even_when_trusted(tmp_path: Pat
     legacy = tmp_path / "legacy"
     legacy.mkdir()
     for name in ("model.zip", "metadata.json", "normalization.npz"):
-        shutil.copy(MODELS_DIR / "ppo-residual" / name, legacy / name)
+        shutil.copy(MODELS_DIR / "dagger-student" / name, legacy / name)
     marker = tmp_path / "marker"
     poison_zip(legacy / "model.zip", marker, member="policy.pth")
     with pytest.raises(ValueError, match="corrupt"):

@@ -28,7 +28,7 @@ def _observations(policy, n: int) -> dict[str, np.ndarray]:
     return obs
 
 
-@pytest.mark.parametrize("name", ["dagger-student", "ppo-residual"])
+@pytest.mark.parametrize("name", ["dagger-student"])
 def test_one_observation_runs_on_one_thread_and_the_callers_count_comes_back(
     name: str, caller_threads: int, monkeypatch: pytest.MonkeyPatch
 ) -> None:

@@ -242,7 +242,7 @@ _PICKLE_WARNING = (
 
 
 def load(name_or_path: str | Path, *, trust_pickle: bool = False) -> Any:
-    """Load a shipped model by name (e.g. ``"ppo-residual"``) or a model directory.
+    """Load a shipped model by name (e.g. ``"dagger-student"``) or a model directory.
 
     A model directory holds ``policy.safetensors`` and ``policy.json`` (the policy's weights and its
     description: :mod:`radial_ibvs_agents.learned.files.model_files`), ``metadata.json`` and, if

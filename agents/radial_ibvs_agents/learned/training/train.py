@@ -547,7 +547,7 @@ def export_model(
         What :func:`train` wrote.
     dest
         The model directory to write (e.g.
-        ``agents/radial_ibvs_agents/learned/models/ppo-residual``).
+        ``agents/radial_ibvs_agents/learned/models/dagger-student``).
     best
         Ship the best model of the validation evaluations (with its normalisation statistics)
         rather than the last one.

@@ -14,7 +14,7 @@ from radial_ibvs_agents.learned.networks.residual import ResidualConfig, Residua
 from radial_ibvs_agents.learned.training.train import export_model, train
 from radial_ibvs_agents.learned.training.zoo_config import load_train_config
 
-CONFIG = Path(__file__).resolve().parents[4] / "configs" / "agents" / "ppo_residual.yaml"
+CONFIG = Path(__file__).resolve().parents[4] / "research" / "configs" / "ppo_residual.yaml"
 
 
 def test_a_trained_residual_model_loads_as_a_residual_policy(tmp_path: Path) -> None:
