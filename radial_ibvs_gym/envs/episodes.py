@@ -10,9 +10,8 @@ so a seed gives the same episode in both.
 
 from __future__ import annotations
 
-import functools
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -28,6 +27,7 @@ from radial_ibvs_gym.geometry import world_to_camera, wrap_angle_scalar
 from radial_ibvs_gym.geometry.bearing_pose import solve_goal_pose
 from radial_ibvs_gym.physics.base import footprint_collides, start_pose_error
 from radial_ibvs_gym.scenarios import Episode
+from radial_ibvs_gym.scenarios.spec import MirrorName
 from radial_ibvs_gym.vision.pipeline import DetectedPoints
 
 __all__ = ["EpisodeSetup", "EpisodeSource"]
@@ -119,6 +119,7 @@ class EpisodeSource:
         self._detector = detector
         self._start_reach = config.start_reach
         self._bounds_cache: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+        self._nominal: dict[MirrorName | None, Any] = {}  # the map's cameras, by mirror
 
     @property
     def start_reach(self) -> float:
@@ -164,7 +165,7 @@ class EpisodeSource:
         attempts = 10 if self._detector is not None and "goal" not in options else 1
         for attempt in range(attempts):
             episode = self._draw_episode(rng, task, options)
-            cameras, drawn = self._episode_cameras(rng)
+            cameras, drawn = self._episode_cameras(rng, episode.mirror)
             landmarks, present = self._observed(episode.landmarks)
             heights = landmarks[:, 2] - episode.camera_height
             bounds: dict[str, tuple[np.ndarray, np.ndarray] | None] = {}
@@ -246,20 +247,23 @@ class EpisodeSource:
         return pose
 
     def _episode_cameras(
-        self, rng: np.random.Generator
+        self, rng: np.random.Generator, mirror: MirrorName | None = None
     ) -> tuple[dict[str, Any], Imperfections | None]:
         """Return the episode's cameras, imperfections drawn where the scenario gives ranges.
 
-        The goal image is taken by the same real camera (the same calibration errors; its
-        own pixel noise), unless the scenario names a goal camera of its own.
+        ``mirror`` is the episode's (a scenario that draws it); ``None``: the camera's own. The
+        goal image is taken by the same real camera (the same calibration errors; its own pixel
+        noise), unless the scenario names a goal camera of its own.
         """
         config = self.config.scenario.config
-        cameras = {"current": self.config.scenario.camera, "goal": self.config.scenario.goal_camera}
+        current, goal = self.config.scenario.episode_cameras(mirror)
+        cameras = {"current": current, "goal": goal}
         ranges = config.camera.imperfection_ranges
         drawn = None
         if ranges is not None:
             drawn = ranges.draw(rng, config.camera.imperfections)
-            cameras["current"] = config.camera.build(drawn)
+            spec = config.camera if mirror is None else replace(config.camera, mirror=mirror)
+            cameras["current"] = spec.build(drawn)
             if config.goal_camera is None:
                 cameras["goal"] = cameras["current"]
         goal_spec = config.goal_camera
@@ -294,6 +298,7 @@ class EpisodeSource:
             return None
         config = self.config.scenario.config
         fixed = config.random_landmarks is None and len(set(config.camera_height_range)) == 1
+        fixed = fixed and len(config.mirrors) <= 1
         if not fixed:
             lo, hi = camera.visible_radius_bounds(heights)
             if present is not None:
@@ -389,7 +394,7 @@ class EpisodeSource:
         padded[: len(landmarks)] = landmarks
         ranges = np.zeros((k, 2))
         heights = landmarks[:, 2] - episode.camera_height
-        bounds = self._nominal_camera.visible_radius_bounds(heights)
+        bounds = self._nominal_camera(episode.mirror).visible_radius_bounds(heights)
         if bounds is not None:  # an on-axis convex mirror (every shipped camera)
             ranges[: len(landmarks), 0] = bounds[0]
             ranges[: len(landmarks), 1] = np.minimum(bounds[1], 1e3)
@@ -402,7 +407,13 @@ class EpisodeSource:
             "landmark_range": ranges,
         }
 
-    @functools.cached_property
-    def _nominal_camera(self) -> Any:
-        """The scenario's camera without its imperfections: what the map's owner knows."""
-        return self.config.scenario.config.camera.build(Imperfections())
+    def _nominal_camera(self, mirror: MirrorName | None) -> Any:
+        """Return the episode's camera without imperfections: what the map's owner knows.
+
+        ``mirror``: the episode's (``None``: the scenario's camera). Built once per mirror.
+        """
+        if mirror not in self._nominal:
+            spec = self.config.scenario.config.camera
+            spec = spec if mirror is None else replace(spec, mirror=mirror)
+            self._nominal[mirror] = spec.build(Imperfections())
+        return self._nominal[mirror]

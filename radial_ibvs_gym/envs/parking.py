@@ -200,6 +200,12 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self._detector: DetectedPoints | None = None
         if config.measurement == "detected":
             drawn = config.scenario.config.random_landmarks
+            if len(config.scenario.config.mirrors) > 1:
+                raise ValueError(
+                    f"measurement='detected' renders through one camera; scenario "
+                    f"{config.scenario.config.name!r} draws its mirror from "
+                    f"{list(config.scenario.config.mirrors)} per episode"
+                )
             if drawn is not None and drawn.count_range[0] != drawn.count_range[1]:
                 raise ValueError(
                     f"measurement='detected' labels a fixed number of beacons; scenario "

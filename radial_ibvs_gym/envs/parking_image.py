@@ -82,6 +82,12 @@ class ParkingImageEnv(ParkingEnv):
         self.beacon_radius = float(beacon_radius)
         self.quality = ImageQuality(image_noise, image_blur, exposure)
         height = self.scenario.config.fixed_camera_height("ParkingImage-v0's renderer")
+        if len(self.scenario.config.mirrors) > 1:
+            raise ValueError(
+                f"ParkingImage-v0 renders through one camera; scenario "
+                f"{self.scenario.config.name!r} draws its mirror from "
+                f"{list(self.scenario.config.mirrors)} per episode"
+            )
         self._image_renderer = OmniRenderer(self.scenario.camera, image_size, height)
         self._goal_renderer = (
             OmniRenderer(self.scenario.goal_camera, image_size, height)

@@ -55,7 +55,7 @@ class ParkingRenderer:
         except ImportError as exc:  # pragma: no cover - matplotlib is a core dependency
             raise ImportError("rendering needs matplotlib: pip install matplotlib") from exc
         self.scenario, self.episode, self.robot_size = scenario, episode, robot_size
-        cam = scenario.camera
+        cam = scenario.episode_cameras(episode.mirror)[0]
         k = cam.intrinsics
         colors = matplotlib.colormaps["tab10"](np.arange(len(episode.landmarks)) % 10)
         self.figure = Figure(figsize=(10, 5), dpi=64, layout="constrained")
@@ -101,7 +101,7 @@ class ParkingRenderer:
             z = float(cam.mirror.profile_z(radius)) - cam.camera_z
             ring = k.project(np.stack([np.cos(phi), np.sin(phi)], -1) * radius / z)
             omni.fill(ring[:, 0], ring[:, 1], fc=face)
-        goal_px = self._pixels(episode.goal, scenario.goal_camera)
+        goal_px = self._pixels(episode.goal, scenario.episode_cameras(episode.mirror)[1])
         omni.scatter(goal_px[:, 0], goal_px[:, 1], c=colors, marker="x", s=50)
         self._points = omni.scatter(goal_px[:, 0], goal_px[:, 1], c=colors, s=40)
         omni.set_xlim(0, k.width)
@@ -129,7 +129,7 @@ class ParkingRenderer:
         self._robot_line.set_data(body[:, 0], body[:, 1])
         tip = pose[:2] + 0.6 * self.robot_size[0] * np.array([math.cos(pose[2]), math.sin(pose[2])])
         self._heading.set_data([pose[0], tip[0]], [pose[1], tip[1]])
-        pixels = self._pixels(pose, self.scenario.camera)
+        pixels = self._pixels(pose, self.scenario.episode_cameras(self.episode.mirror)[0])
         self._points.set_offsets(np.where(np.isfinite(pixels), pixels, -1e4))
         self.canvas.draw()
         return np.asarray(self.canvas.buffer_rgba())[..., :3].copy()

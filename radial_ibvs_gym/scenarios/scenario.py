@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import Any, NamedTuple
 
@@ -19,7 +20,7 @@ from radial_ibvs_gym.config import (
     short,
 )
 from radial_ibvs_gym.geometry import world_to_camera
-from radial_ibvs_gym.scenarios.spec import PoseRange, ScenarioConfig
+from radial_ibvs_gym.scenarios.spec import MirrorName, PoseRange, ScenarioConfig
 
 __all__ = ["Episode", "Scenario", "load_scenario"]
 
@@ -50,6 +51,9 @@ class Episode(NamedTuple):
     camera_height
         Height of the camera's optical centre above the floor in this episode, metres (drawn
         when the scenario gives a range).
+    mirror
+        The camera's mirror in this episode, where the scenario draws it (``mirrors``);
+        ``None``: the scenario's camera.
     """
 
     task: int
@@ -59,6 +63,7 @@ class Episode(NamedTuple):
     goal: np.ndarray
     obstacles: np.ndarray = _NO_OBSTACLES
     camera_height: float = 1.8
+    mirror: MirrorName | None = None
 
 
 class Scenario:
@@ -87,16 +92,18 @@ class Scenario:
         self.goal_camera: CatadioptricCamera = (
             config.goal_camera.build() if config.goal_camera is not None else self.camera
         )
+        #: the camera with each mirror the scenario draws from (``mirrors``)
+        self.cameras_by_mirror: dict[MirrorName, CatadioptricCamera] = {
+            m: replace(config.camera, mirror=m).build() for m in config.mirrors
+        }
         if config.landmarks and config.random_room is None:
             for k, task in enumerate(config.tasks):
                 for which, spec, cam in (
                     ("goal", task.goal, self.goal_camera),
                     ("start", task.start, self.camera),
                 ):
-                    if (
-                        isinstance(spec, tuple)
-                        and config.camera_height_range[0] == (config.camera_height_range[1])
-                    ):
+                    fixed = config.camera_height_range[0] == config.camera_height_range[1]
+                    if isinstance(spec, tuple) and fixed and not config.mirrors:
                         n = int(self.visible(np.array(spec), cam=cam).sum())
                         if n < config.min_visible_at_goal:
                             raise ValueError(
@@ -307,6 +314,8 @@ class Scenario:
             landmarks = self._landmarks(room, rng)
             lo, hi = c.camera_height_range
             height = lo if lo == hi else float(rng.uniform(lo, hi))  # drawn only for a range
+            mirror = self._mirror(rng)
+            camera, goal_camera = self.episode_cameras(mirror)
             obstacles = self._obstacles(room, rng)
             if reach < 1.0:
                 goal = self._pose(spec.goal, room, rng)
@@ -322,16 +331,35 @@ class Scenario:
             ):  # below 1, _near drew the distance within the scaled bounds
                 continue
             need = c.min_visible_at_goal
-            if self._visible_count(goal, landmarks, self.goal_camera, height) < need:
+            if self._visible_count(goal, landmarks, goal_camera, height) < need:
                 continue
-            if self._visible_count(start, landmarks, self.camera, height) < need:
+            if self._visible_count(start, landmarks, camera, height) < need:
                 continue
-            return Episode(task, room, landmarks, start, goal, obstacles, float(height))
+            return Episode(task, room, landmarks, start, goal, obstacles, float(height), mirror)
         raise ValueError(
             f"scenario {c.name!r}: no valid episode in {MAX_TRIES} draws (poses inside the room, "
             f"start-goal distance in [{c.min_start_goal_distance}, {c.max_start_goal_distance}] "
             f"m, >= {c.min_visible_at_goal} landmarks visible): relax the scenario"
         )
+
+    def _mirror(self, rng: np.random.Generator) -> MirrorName | None:
+        """Draw an episode's mirror (``mirrors``; one listed: that one, with no draw)."""
+        mirrors = self.config.mirrors
+        if not mirrors:
+            return None
+        return mirrors[0] if len(mirrors) == 1 else mirrors[int(rng.integers(len(mirrors)))]
+
+    def episode_cameras(
+        self, mirror: MirrorName | None
+    ) -> tuple[CatadioptricCamera, CatadioptricCamera]:
+        """Return the current and goal cameras of an episode with ``mirror``.
+
+        ``None``: the scenario's. Without the imperfections drawn per episode.
+        """
+        if mirror is None:
+            return self.camera, self.goal_camera
+        camera = self.cameras_by_mirror[mirror]
+        return camera, (self.goal_camera if self.config.goal_camera is not None else camera)
 
     def goal_depths(self, episode: Episode) -> np.ndarray:
         """Goal depths ``d*`` (horizontal distances at the goal, metres), times ``depth_scale``.

@@ -17,6 +17,7 @@ from radial_ibvs_gym.camera import CameraSpec
 from radial_ibvs_gym.limits import MAX_LANDMARKS, MAX_OBSTACLES, MAX_WORLD_M
 
 __all__ = [
+    "MirrorName",
     "PoseRange",
     "RandomLandmarks",
     "RandomObstacles",
@@ -26,6 +27,8 @@ __all__ = [
 ]
 
 Pose = tuple[float, float, float]
+#: a mirror's name, as ``camera.mirror`` takes it
+MirrorName = Literal["A", "B"]
 
 
 def _check_world(values: Any, name: str) -> None:
@@ -226,6 +229,11 @@ class ScenarioConfig:
         The robot's catadioptric camera.
     goal_camera
         Camera that took the goal image, if not ``camera`` (the paper's mirror-swap test).
+    mirrors
+        Draw the camera's mirror per episode, uniformly, from these (``camera`` with its
+        ``mirror`` replaced: :attr:`Episode.mirror <radial_ibvs_gym.scenarios.Episode>`); empty
+        (the default): ``camera.mirror``. The goal image goes through the episode's camera unless
+        ``goal_camera`` is given.
     camera_height
         Height of the camera's optical centre above the floor, metres, or a ``[low, high]``
         range drawn uniformly per episode (:attr:`Episode.camera_height
@@ -252,6 +260,7 @@ class ScenarioConfig:
     wall_clearance: float = 0.5
     camera: CameraSpec = field(default_factory=CameraSpec)
     goal_camera: CameraSpec | None = None
+    mirrors: tuple[MirrorName, ...] = ()
     camera_height: float | tuple[float, float] = 1.8
     depth_scale: float = 1.0
     min_visible_at_goal: int = 3
@@ -293,6 +302,8 @@ class ScenarioConfig:
                 raise ValueError(f"{name} must be finite and positive, got {value!r}")
         _check_world((self.wall_clearance,), "wall_clearance")
         _check_range(self.camera_height_range, "camera_height", positive=True)
+        if len(set(self.mirrors)) != len(self.mirrors):
+            raise ValueError(f"mirrors must not repeat a mirror, got {list(self.mirrors)!r}")
         smallest = (
             min(self.random_room.width[0], self.random_room.depth[0])
             if self.random_room is not None

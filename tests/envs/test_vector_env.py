@@ -408,13 +408,13 @@ def test_each_robot_meets_only_its_own_rooms_obstacles(physics: str) -> None:
 
 @pytest.mark.parametrize("imperfect", [False, True])
 @pytest.mark.parametrize("env_id", ["RadialIBVS/Parking-v0", "RadialIBVS/ParkingGoal-v1"])
-def test_native_equals_sync_when_scenes_draw_landmark_counts_and_camera_heights(
+def test_native_equals_sync_when_scenes_draw_landmark_counts_camera_heights_and_mirrors(
     env_id: str, imperfect: bool
 ) -> None:
-    # each robot its own count and height: the absent landmarks and the heights per robot
+    # each robot its own count, height and mirror: the absent landmarks, heights and cameras
     kwargs: dict[str, Any] = {
         "scenario": "random-unseen", "physics": "kinematic", "max_episode_steps": 60,
-        "max_landmarks": 16, "slot_order": "random",
+        "max_landmarks": 16, "slot_order": "random", "mirrors": ["A", "B"],
     }  # fmt: skip
     if imperfect:
         imperfections = {"principal_point_offset": [2.0, -1.0], "pixel_noise_std": 0.5}

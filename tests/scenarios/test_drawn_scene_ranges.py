@@ -25,6 +25,8 @@ RANGES: dict[str, Any] = {
     "random_landmarks": {"count": [4, 9], "height": [0.2, 2.4]},
     "camera_height": [1.3, 2.2],
 }
+#: the ranges, and the mirror drawn per episode too
+DRAWN: dict[str, Any] = {**RANGES, "mirrors": ["A", "B"]}
 
 
 def test_a_range_of_width_zero_draws_nothing_more() -> None:
@@ -83,9 +85,13 @@ def test_a_scenario_that_draws_its_height_has_no_single_one() -> None:
         gym.make("RadialIBVS/Parking-v0", scenario="random", measurement="detected", **RANGES)
 
 
-def _fixed_scene(episode: Episode) -> dict[str, Any]:
-    """The gym.make overrides of a scenario that holds only this episode's scene."""
+def _fixed_scene(episode: Episode, camera: dict[str, Any]) -> dict[str, Any]:
+    """The gym.make overrides of a scenario that holds only this episode's scene and camera."""
+    spec = {"mirror": "A", "non_central_offset": 0.01, **camera.get("camera", {})}
+    if episode.mirror is not None:
+        spec["mirror"] = episode.mirror
     return {
+        "camera": spec,
         "random_room": None,
         "room": episode.room.tolist(),
         "random_landmarks": None,
@@ -120,12 +126,12 @@ CAMERAS: dict[str, dict[str, Any]] = {
 
 @settings(max_examples=12, deadline=None)
 @given(seed=st.integers(0, 2**31 - 1), camera=st.sampled_from(sorted(CAMERAS)))
-def test_an_episode_with_fewer_landmarks_is_observed_as_its_own_scene(
+def test_an_episode_with_fewer_landmarks_and_its_mirror_is_observed_as_its_own_scene(
     seed: int, camera: str
 ) -> None:
     kwargs = {"physics": "kinematic", "obs_mode": "features", "goal_depths": True}
     ranged = gym.make(
-        "RadialIBVS/Parking-v0", scenario="random", **kwargs, **RANGES, **CAMERAS[camera]
+        "RadialIBVS/Parking-v0", scenario="random", **kwargs, **DRAWN, **CAMERAS[camera]
     )
     ranged.reset(seed=seed)
     episode = ranged.unwrapped.episode
@@ -134,8 +140,7 @@ def test_an_episode_with_fewer_landmarks_is_observed_as_its_own_scene(
         "RadialIBVS/Parking-v0",
         scenario="random",
         **kwargs,
-        **_fixed_scene(episode),
-        **CAMERAS[camera],
+        **_fixed_scene(episode, CAMERAS[camera]),
     )
     actions = np.random.default_rng(seed).uniform(-1, 1, (25, 2)).astype(np.float32)
     a = _rollout(ranged, seed, actions)
@@ -194,3 +199,27 @@ def test_no_training_or_tuning_reads_the_unseen_family() -> None:
     assert len(readers) > 20
     named = [str(p.relative_to(ROOT)) for p in readers if "random-unseen" in p.read_text()]
     assert named == []
+
+
+def test_mirrors_are_drawn_per_episode_and_one_listed_draws_nothing() -> None:
+    drawn = load_scenario("random", mirrors=["A", "B"])
+    mirrors = {drawn.sample(np.random.default_rng(seed)).mirror for seed in range(40)}
+    assert mirrors == {"A", "B"}
+    one = load_scenario("random", mirrors=["B"], camera={"mirror": "A", "non_central_offset": 0.01})
+    mirror_b = load_scenario("random", camera={"mirror": "B", "non_central_offset": 0.01})
+    for seed in range(5):
+        a = one.sample(np.random.default_rng(seed))
+        b = mirror_b.sample(np.random.default_rng(seed))
+        assert a.mirror == "B" and b.mirror is None
+        for x, y in zip(a[:-1], b[:-1], strict=True):
+            np.testing.assert_array_equal(x, y)
+    with pytest.raises((ConfigError, ValueError), match="mirrors must not repeat"):
+        load_scenario("random", mirrors=["A", "A"])
+    with pytest.raises((ConfigError, ValueError), match="mirrors"):
+        load_scenario("random", mirrors=["C"])
+    with pytest.raises(ValueError, match=r"ParkingImage-v0 renders through one camera"):
+        gym.make("RadialIBVS/ParkingImage-v0", scenario="random", mirrors=["A", "B"])
+    with pytest.raises(ValueError, match=r"measurement='detected' renders through one camera"):
+        gym.make(
+            "RadialIBVS/Parking-v0", scenario="random", measurement="detected", mirrors=["A", "B"]
+        )
