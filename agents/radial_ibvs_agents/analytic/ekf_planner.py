@@ -203,6 +203,9 @@ class EKFPlanner(PBVSEKFPolicy):
         A look that finds the goal within these (metres, radians) ends the moves.
     max_looks
         Looks (and corrections) per episode, at most.
+    correct
+        After a look that does not find the goal within the park tolerances: correct
+        turn-drive-turn (``True``), or hand back to the law (``False``).
     law_kwargs
         The law's settings (:class:`~radial_ibvs_agents.analytic.pose_oracle.PoseOracle`).
     **planner_kwargs
