@@ -1,10 +1,10 @@
 """How the image-only policies fail: where the pose estimate's error goes near the goal, and how
 each policy's failed episodes end.
 
-    python research/diagnostics/failure_modes.py [--episodes 60] [--variant LABEL]
-        [--policies ekf-planner pbvs-ekf dagger-student ...]
+    python research/diagnostics/failure_modes.py [--episodes 60] [--suite imperfect]
+        [--variant LABEL] [--policies ekf-planner pbvs-ekf dagger-student ...]
 
-On validation rooms (seeds from 10,000), through one variant of the ``imperfect`` suite (default:
+On validation seeds (from 10,000), in one variant of a benchmark suite (default: ``imperfect``,
 all together, the goal over 30 frames), prints two tables:
 
 - **The pose estimate against the distance to the goal**, for the policies that filter the goal's
@@ -132,6 +132,7 @@ def failure_ends(name: str, variant: Any, seeds: list[int]) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--episodes", type=int, default=60)
+    parser.add_argument("--suite", default="imperfect")
     parser.add_argument("--variant", default="all together, goal over 30 frames")
     parser.add_argument(
         "--policies",
@@ -139,12 +140,14 @@ def main() -> None:
         default=["ekf-planner", "pbvs-ekf", "ibvs-straight-filtered", "dagger-student"],
     )
     args = parser.parse_args()
-    labels = [v.label for v in SUITES["imperfect"]]
+    if args.suite not in SUITES:
+        parser.error(f"--suite {args.suite!r} is not a suite: {list(SUITES)}")
+    labels = [v.label for v in SUITES[args.suite]]
     if args.variant not in labels:
-        parser.error(f"--variant {args.variant!r} is not an imperfect variant: {labels}")
-    variant = next(v for v in SUITES["imperfect"] if v.label == args.variant)
+        parser.error(f"--variant {args.variant!r} is not a variant of {args.suite}: {labels}")
+    variant = next(v for v in SUITES[args.suite] if v.label == args.variant)
     seeds = [VALIDATION_SEED + k for k in range(args.episodes)]
-    print(f"imperfect: {args.variant}; {args.episodes} validation rooms (seeds from 10,000)")
+    print(f"{args.suite}: {args.variant}; {args.episodes} episodes (seeds from 10,000)")
     for name in args.policies:
         if hasattr(make_policy(name), "goal_pose"):
             print_pose_table(name, pose_errors(name, variant, seeds))
