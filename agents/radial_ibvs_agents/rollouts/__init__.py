@@ -8,7 +8,8 @@
   ``demo``, ``reproduce``: what records frames or sets reset options);
 - :func:`env_kwargs_for` merges the ``gym.make`` keywords in one order: the policy's
   ``env_kwargs`` (what its observation needs, and for a learned model the settings it was
-  trained with), then the scenario, then the caller's overrides, which win;
+  trained with; a named scenario drops those that describe the training world, its
+  ``WORLD_KEYS``), then the scenario, then the caller's overrides, which win;
 - :func:`make_env` makes the env and checks that a learned model's observation space fits.
 
 Each returns :class:`~radial_ibvs_agents.rollouts.log.EpisodeLog`;

@@ -2,17 +2,27 @@
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
 from typing import Any
 
 import gymnasium as gym
 
 from radial_ibvs_gym.registration import check_env_id
+from radial_ibvs_gym.scenarios import ScenarioConfig
 
 __all__ = ["DEFAULT_ENV_ID", "env_id_for", "env_kwargs_for", "make_env"]
 
 #: the env every command runs unless told otherwise
 DEFAULT_ENV_ID = "RadialIBVS/Parking-v0"
+
+#: a policy's keywords that describe the world it was trained in, not how it observes: the
+#: scenario's keys (room, landmarks, camera, mirrors, camera height...), the task, the start
+#: curriculum, the goal image's frames and missed detections. A named scenario replaces them.
+WORLD_KEYS = frozenset(
+    {f.name for f in dataclasses.fields(ScenarioConfig)}
+    | {"task", "start_reach", "goal_image_frames", "missed_detections"}
+)
 
 
 def env_id_for(policy: Any, env_id: str | None = None) -> str:
@@ -42,10 +52,14 @@ def env_kwargs_for(
     Returns
     -------
     dict
-        ``{**policy.env_kwargs, "scenario": scenario, **overrides}``.
+        ``{**policy.env_kwargs, "scenario": scenario, **overrides}``; with a ``scenario``, the
+        policy's :data:`WORLD_KEYS` are left out: a model trained with its cameras or scenes
+        drawn from ranges (domain randomisation) is judged in the scenario named, not in its
+        training world.
     """
     kwargs: dict[str, Any] = dict(getattr(policy, "env_kwargs", {}))
     if scenario is not None:
+        kwargs = {k: v for k, v in kwargs.items() if k not in WORLD_KEYS}
         kwargs["scenario"] = scenario
     kwargs.update(overrides or {})
     return kwargs
