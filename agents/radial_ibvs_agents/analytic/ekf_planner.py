@@ -319,14 +319,7 @@ class EKFPlanner(PBVSEKFPolicy):
         )
         for i in np.flatnonzero(starts).tolist():
             rooms[i], plans[i] = None, None
-        filters = state.filters
-        started = filters.started & ~starts
-        mean, cov = self._update(filters.mean.copy(), filters.cov.copy(), obs, started)
-        solved, valid = self.goal_pose(obs)
-        new = ~started & valid  # the first pose solved from the image starts the filter
-        mean[new], cov[new] = solved[new], self.init_cov
-        velocity = np.where(new[:, None], 0.0, filters.velocity)
-        started = started | new
+        mean, cov, velocity, started, solved, valid = self._filter(obs, state.filters, starts)
         actions = np.zeros((b, 2))
         for i in np.flatnonzero(started).tolist():
             if rooms[i] is None:

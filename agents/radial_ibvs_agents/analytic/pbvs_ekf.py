@@ -117,13 +117,7 @@ class PBVSEKFPolicy(PBVSPolicy):
             filters = Filters.empty(b)
         starts = np.ones(b, dtype=bool) if episode_start is None else np.asarray(episode_start)
         starts = np.broadcast_to(starts.astype(bool).reshape(-1), (b,))
-        started = filters.started & ~starts
-        mean, cov = self._update(filters.mean.copy(), filters.cov.copy(), obs, started)
-        solved, valid = self.goal_pose(obs)
-        new = ~started & valid  # the first pose solved from the image starts the filter
-        mean[new], cov[new] = solved[new], self.init_cov
-        velocity = np.where(new[:, None], 0.0, filters.velocity)
-        started = started | new
+        mean, cov, velocity, started, _, _ = self._filter(obs, filters, starts)
         actions = np.zeros((b, 2))
         if started.any():
             actions[started] = self.law.act_from_origin(mean[started])
@@ -131,6 +125,22 @@ class PBVSEKFPolicy(PBVSPolicy):
         mean, cov, velocity = self._predict(mean, cov, velocity, actions, started)
         out = actions.astype(np.float32)
         return (out if batched else out[0]), Filters(mean, cov, velocity, started)
+
+    def _filter(
+        self, obs: dict[str, np.ndarray], filters: Filters, starts: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Correct the filters with this frame; start those whose first pose it gives.
+
+        Returns the mean, covariance, velocity and started flags after the frame (robots at
+        ``starts`` begin afresh), and the pose solved from the frame alone with its validity.
+        """
+        started = filters.started & ~starts
+        mean, cov = self._update(filters.mean.copy(), filters.cov.copy(), obs, started)
+        solved, valid = self.goal_pose(obs)
+        new = ~started & valid  # the first pose solved from the image starts the filter
+        mean[new], cov[new] = solved[new], self.init_cov
+        velocity = np.where(new[:, None], 0.0, filters.velocity)
+        return mean, cov, velocity, started | new, solved, valid
 
     @staticmethod
     def select_state(state: Filters, rows: np.ndarray) -> Filters:
