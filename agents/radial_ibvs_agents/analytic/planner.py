@@ -86,8 +86,8 @@ class MapPlanner:
         The near-goal rules (:class:`~radial_ibvs_agents.analytic.near_goal.NearGoalRules`:
         ``hold_radius``, ``drive_gate``, ``reverse``, ``final_radius``, ``align_radius``,
         ``approach``, ``approach_limit``, ``align_unblock``, ``line_radius``, ``line_cone``,
-        ``line_lateral_gain``, ``line_speed``, ``turn_radius``, ``turn_gain``, ``turn_floor``), each
-        off by default; held as ``planner.rules``.
+        ``line_lateral_gain``, ``line_speed``, ``turn_radius``, ``turn_gain``, ``turn_floor``,
+        ``turn_deadband``), each off by default; held as ``planner.rules``.
 
     Raises
     ------
@@ -252,6 +252,8 @@ class MapPlanner:
     def _turn(self, plan: Plan, pose: F64) -> np.ndarray:
         """Return the turn in place to the goal heading (``turn_radius``), action units."""
         phi = goal_frame(pose, self._goal_pose(plan))[2]
+        if abs(phi) < self.rules.turn_deadband:  # parked: stand still
+            return np.zeros(2)
         robot = self.robot
         omega = turn_in_place(
             phi,

@@ -6,6 +6,7 @@ import argparse
 import importlib.util
 import os
 import shutil
+import sys
 from pathlib import Path
 from typing import Any
 
@@ -171,4 +172,13 @@ def run(args: argparse.Namespace) -> int:
         written.append(write_json(args.json, rows))
     for path in written:
         print(f"saved {path}")
+    ran = {r.job.policy for r in results if not r.skipped}
+    never = sorted({r.job.policy for r in results} - ran)
+    if never:  # a variant a policy cannot take is a designed skip; no variant at all is not
+        print(
+            f"radial-ibvs benchmark: error: {', '.join(never)} ran in no variant of "
+            f"{', '.join(args.suites or ['the default suites'])} (the reasons are above)",
+            file=sys.stderr,
+        )
+        return 1
     return 0

@@ -21,7 +21,10 @@ def _image(obs: Mapping[str, Any]) -> tuple[Any, Any, Any]:
     ``Parking-v0`` has them as ``points``, ``visible`` and ``goal_points``; the goal-conditioned
     ``ParkingGoal-v1`` as ``achieved_goal``, the last third of ``observation`` and
     ``desired_goal`` (their first ``2M`` values: with ``goal_depths=True`` the depths follow).
+    ``ParkingImage-v0``'s images carry no points: none are logged (empty arrays).
     """
+    if not isinstance(obs, Mapping) or ("points" not in obs and "observation" not in obs):
+        return np.zeros(0), np.zeros(0), np.zeros(0)
     if "points" in obs:
         return obs["points"], obs["visible"], obs["goal_points"]
     n = len(obs["observation"]) // 3
@@ -108,8 +111,8 @@ def run_episode(
         control_dt=float(getattr(base, "control_dt", float("nan"))),
         poses=np.array(poses, dtype=np.float64),
         actions=np.array(actions, dtype=np.float64).reshape(-1, 2),
-        points=np.array(points, dtype=np.float64).reshape(-1, n, 2),
-        visible=np.array(visible).reshape(-1, n) > 0.5,
+        points=np.array(points, dtype=np.float64).reshape(len(points), n, 2),
+        visible=np.array(visible).reshape(len(visible), n) > 0.5,
         goal_points=np.asarray(image[2], dtype=np.float64).reshape(n, 2),
         info=info,
         compute_s=compute,

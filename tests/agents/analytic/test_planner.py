@@ -372,6 +372,32 @@ def test_within_turn_radius_it_turns_in_place_and_parks() -> None:
     assert np.isclose(omega, -0.5 / planner.robot.max_angular_speed)
 
 
+def test_a_turn_floor_parks_only_with_a_deadband() -> None:
+    """A floor turns from one side of the goal heading to the other for good: no park (the
+    pose held 1 s). With ``turn_deadband`` the teacher stands still inside it, and parks."""
+    env = _teacher_env()
+    rules = {**LINE_TEACHER, "turn_radius": 0.018, "turn_gain": 6.0, "turn_floor": 0.5}
+    floored = MapPlanner(**rules)
+    parking = MapPlanner(**rules, turn_deadband=0.026)
+    plan = Plan(waypoints=np.array([[-1.0, 0.0], [0.0, 0.0]]), goal_yaw=0.0)
+    np.testing.assert_array_equal(
+        parking._turn(plan, np.array([0.01, 0.0, np.radians(1.4)])), [0.0, 0.0]
+    )
+    v, omega = parking._turn(plan, np.array([0.01, 0.0, np.radians(1.6)]))
+    assert v == 0.0 and np.isclose(omega, -0.5 / parking.robot.max_angular_speed)
+    rng = np.random.default_rng(3)
+    for k in range(5):
+        _, info = env.reset(seed=10_000 + k)
+        g = np.asarray(info["goal_pose"], dtype=np.float64)
+        start = g + np.array([0.01, 0.0, rng.choice([-1.0, 1.0]) * rng.uniform(0.3, 3.0)])
+        stuck = run_episode(floored, env, seed=10_000 + k, options={"start": start})
+        parked = run_episode(parking, env, seed=10_000 + k, options={"start": start})
+        assert not stuck.success and parked.success, k
+        assert np.allclose(parked.poses[:, :2], start[:2], atol=1e-6), k  # never moved
+        assert np.all(parked.actions[-5:] == 0.0), k  # it stood still to be parked
+    env.close()
+
+
 @pytest.mark.parametrize(
     ("kwargs", "match"),
     [
@@ -379,6 +405,8 @@ def test_within_turn_radius_it_turns_in_place_and_parks() -> None:
         ({"turn_gain": 0.0}, "turn_gain must be finite and positive, got 0.0"),
         ({"turn_floor": -0.5}, "turn_floor must be finite and positive, got -0.5"),
         ({"turn_floor": 0.5}, "turn_floor .* acts on turn_radius's turn in place"),
+        ({"turn_deadband": 0.02}, "turn_deadband .* acts on turn_radius's turn in place"),
+        ({"turn_deadband": -0.02}, "turn_deadband must be finite and positive, got -0.02"),
         ({"turn_radius": 0.01, "final_radius": 0.3}, "turn_radius .* and final_radius"),
         ({"line_cone": 1.6}, "line_cone must be below pi/2 radians, got 1.6"),
         ({"line_radius": -0.1}, "line_radius must be finite and positive, got -0.1"),

@@ -12,24 +12,27 @@ normalising observations exactly as training did.
 
 from __future__ import annotations
 
-import json
-import zipfile
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from radial_ibvs_agents.learned.files.former_paths import former_modules
 from radial_ibvs_agents.learned.files.model_files import (
     DESCRIPTION,
     WEIGHTS,
-    algorithms,
     has_policy_files,
     load_policy,
     read_normalization,
 )
+from radial_ibvs_agents.learned.files.observation_wrappers import (
+    predict_replayed,
+    read_observation_path,
+    replay_space,
+    same_space,
+)
+from radial_ibvs_agents.learned.files.sb3_zip import PickleLoadWarning, algo_of_zip, load_sb3_zip
 from radial_ibvs_agents.learned.files.threads import threads_for
-from radial_ibvs_agents.untrusted import check_archive, read_json
+from radial_ibvs_agents.untrusted import read_json
 from radial_ibvs_gym.registration import check_env_id
 
 __all__ = ["MODELS_DIR", "LearnedPolicy", "PickleLoadWarning", "load", "shipped_models"]
@@ -71,6 +74,9 @@ class LearnedPolicy:
         self.metadata = metadata
         self.normalization = normalization
         self.name = name
+        #: the observation wrappers replayed before the policy (frame stack, transposition),
+        #: and the env's observation space they start from; ``([], None)`` for none
+        self.wrappers, self.env_space = read_observation_path(metadata, name)
 
     def __repr__(self) -> str:
         return f"LearnedPolicy({self.name!r}, algo={self.metadata.get('algo')!r})"
@@ -86,7 +92,23 @@ class LearnedPolicy:
         return dict(self.metadata.get("env_kwargs", {}))
 
     def check_observation_space(self, space: Any) -> None:
-        """Raise a ``ValueError`` naming the difference if ``space`` is not the model's."""
+        """Raise a ``ValueError`` naming the difference if ``space`` is not the model's.
+
+        A model trained behind SB3's observation wrappers (a frame stack, channels-first
+        images) is compared on what those wrappers make of ``space``.
+        """
+        if self.env_space is not None:
+            try:
+                seen = replay_space(self.wrappers, space)
+            except (KeyError, ValueError, TypeError, AssertionError) as error:  # SB3's checks
+                seen = f"nothing ({type(error).__name__}: {error})"
+            if isinstance(seen, str) or not same_space(seen, self.model.observation_space):
+                raise ValueError(
+                    f"{self.name}: the env's observation {space} becomes {seen} behind the "
+                    f"model's wrappers {[w['name'] for w in self.wrappers]}, not the model's "
+                    f"{self.model.observation_space} (trained on {self.env_kwargs})"
+                )
+            return
         mine = self.model.observation_space
         if getattr(mine, "spaces", None) is not None and getattr(space, "spaces", None) is not None:
             missing = sorted(set(mine.spaces) - set(space.spaces))
@@ -104,18 +126,23 @@ class LearnedPolicy:
         elif mine.shape != getattr(space, "shape", None):
             raise ValueError(f"{self.name}: observation space {space} is not the model's {mine}")
 
-    def _normalise(self, observation: dict[str, np.ndarray]) -> dict[str, np.ndarray]:
+    def _normalise(self, observation: Any) -> Any:
+        """Normalise as the training ``VecNormalize`` did (a Dict by key, a Box as ``obs``)."""
         if self.normalization is None:
             return observation
         clip, eps = self.normalization["clip_obs"], self.normalization["epsilon"]
-        out = {}
-        for key in self.model.observation_space.spaces:
-            value = np.asarray(observation[key], dtype=np.float32)
-            if key in self.normalization["stats"]:
-                mean, var = self.normalization["stats"][key]
+        stats = self.normalization["stats"]
+
+        def normal(value: Any, key: str) -> np.ndarray:
+            value = np.asarray(value, dtype=np.float32)
+            if key in stats:
+                mean, var = stats[key]
                 value = np.clip((value - mean) / np.sqrt(var + eps), -clip, clip)
-            out[key] = value.astype(np.float32)
-        return out
+            return value.astype(np.float32)
+
+        if not isinstance(observation, dict):
+            return normal(observation, "obs")
+        return {key: normal(observation[key], key) for key in self.model.observation_space.spaces}
 
     def predict(
         self,
@@ -137,11 +164,16 @@ class LearnedPolicy:
             If the observation lacks a key the model was trained on (the message names the
             ``gym.make`` arguments to use).
         """
-        missing = sorted(set(self.model.observation_space.spaces) - set(observation))
+        space = self.model.observation_space if self.env_space is None else self.env_space
+        keys = getattr(space, "spaces", None)
+        missing = sorted(set(keys) - set(observation)) if isinstance(keys, dict) else []
         if missing:
             raise KeyError(
                 f"{self.name} needs observation keys {missing}: make the env with {self.env_kwargs}"
             )
+        if self.env_space is not None:  # a frame stack or channels-first images: replayed
+            with threads_for(_rows(observation, self.env_space)):
+                return predict_replayed(self, observation, state, episode_start, deterministic)
         normalised = self._normalise(observation)
         with threads_for(_rows(normalised, self.model.observation_space)):
             if deterministic and state is None:
@@ -284,7 +316,7 @@ def load(name_or_path: str | Path, *, trust_pickle: bool = False) -> Any:
         # a model.zip saved by stable-baselines3 itself: only when trusted
         if not trust_pickle:
             raise ValueError(f"model {label}: refusing to load {zip_path}: {_PICKLE_WARNING}")
-        metadata: Any = {"algo": _algo_of_zip(zip_path, label)}
+        metadata: Any = {"algo": algo_of_zip(zip_path, label)}
     elif not meta_path.is_file():
         raise ValueError(f"model {label}: {meta_path} is missing")
     else:
@@ -316,7 +348,7 @@ def load(name_or_path: str | Path, *, trust_pickle: bool = False) -> Any:
             )
         if not trust_pickle:
             raise ValueError(f"model {label}: refusing to load {zip_path}: {_PICKLE_WARNING}")
-        model = _load_sb3_zip(zip_path, metadata, label)
+        model = load_sb3_zip(zip_path, metadata, label)
         goal_keys = {"observation", "achieved_goal", "desired_goal"}
         if "env_id" not in metadata and set(getattr(model.observation_space, "spaces", {})) == (
             goal_keys
@@ -337,76 +369,6 @@ def load(name_or_path: str | Path, *, trust_pickle: bool = False) -> Any:
         residual = ResidualConfig.from_mapping(metadata["residual"], f"{meta_path}: residual")
         return ResidualPolicy(learned, residual)
     return learned
-
-
-class PickleLoadWarning(UserWarning):
-    """A model is being loaded through pickles, as asked (``trust_pickle``, ``--trust-model``)."""
-
-
-#: hyper-parameters that only one algorithm's ``model.zip`` ``data`` holds
-_ALGO_MARKS = (
-    ("top_quantiles_to_drop_per_net", "tqc"),
-    ("n_steps", "ppo"),
-    ("target_entropy", "sac"),
-)
-
-
-def _algo_of_zip(zip_path: Path, label: str) -> str:
-    """Return the algorithm of an SB3 ``model.zip`` (its ``data`` entry read as plain JSON)."""
-    try:
-        check_archive(zip_path, zip_path.parent)
-        with zipfile.ZipFile(zip_path) as archive:
-            data = json.loads(archive.read("data"))
-    except (zipfile.BadZipFile, KeyError, ValueError, RecursionError) as error:
-        raise ValueError(f"model {label}: {zip_path} is corrupt: {str(error)[:300]}") from None
-    for key, algo in _ALGO_MARKS:
-        if isinstance(data, dict) and key in data:
-            return algo
-    raise ValueError(
-        f"model {label}: cannot tell the algorithm of {zip_path}; add a metadata.json with "
-        '{"algo": "ppo"} (or "sac", "tqc") beside it'
-    )
-
-
-def _load_sb3_zip(zip_path: Path, metadata: dict[str, Any], label: str) -> Any:
-    """Load a stable-baselines3 ``model.zip`` through its pickles (only when trusted).
-
-    The archive is checked first (sizes, members: ``check_archive``), and a
-    :class:`PickleLoadWarning` says that a pickle is being loaded.
-    """
-    import pickle
-    import warnings
-
-    check_archive(zip_path, zip_path.parent)
-    warnings.warn(
-        f"model {label}: loading {zip_path} through its pickles (trust_pickle / --trust-model): "
-        "it can run code; load only models from a source you trust",
-        PickleLoadWarning,
-        stacklevel=3,
-    )
-
-    algos = algorithms()
-    algo = metadata.get("algo")
-    if algo not in algos:
-        raise ValueError(f"model {label}: unknown algo {str(algo)[:40]!r}; valid: {sorted(algos)}")
-    # off-policy models: no replay buffer to predict (a HER buffer would even need the env)
-    inference: dict[str, Any] | None = (
-        {"replay_buffer_class": None, "replay_buffer_kwargs": {}, "buffer_size": 1}
-        if algo != "ppo"
-        else None
-    )
-    try:
-        with former_modules():  # its pickles name classes by the paths they had when saved
-            return algos[algo].load(zip_path, device="cpu", custom_objects=inference)
-    except (
-        zipfile.BadZipFile,
-        ValueError,
-        KeyError,
-        RuntimeError,
-        EOFError,
-        pickle.UnpicklingError,
-    ) as error:
-        raise ValueError(f"model {label}: {zip_path} is corrupt: {str(error)[:300]}") from None
 
 
 def _rows(observation: Any, space: Any) -> int:

@@ -39,6 +39,7 @@ from radial_ibvs_agents.untrusted import check_archive, read_json, sha256_file
 
 __all__ = [
     "DESCRIPTION",
+    "RECURRENT",
     "WEIGHTS",
     "algorithms",
     "has_policy_files",
@@ -59,18 +60,23 @@ _NOT_STORED = {"observation_space", "action_space", "lr_schedule"}
 
 
 def algorithms() -> dict[str, Any]:
-    """Return the SB3 algorithms a model may name: ``ppo``, ``sac``, and ``tqc`` (sb3-contrib).
+    """Return the SB3 algorithms a model may name, by the name ``policy.json`` stores.
 
-    TQC is there when sb3-contrib is installed (``pip install 'radial_ibvs_gym[contrib]'``).
+    ``ppo``, ``a2c``, ``sac`` and ``td3`` (stable-baselines3); ``tqc`` and ``recurrent_ppo``
+    (``RecurrentPPO``) when sb3-contrib is installed (``pip install 'radial_ibvs_gym[contrib]'``).
     """
-    from stable_baselines3 import PPO, SAC
+    from stable_baselines3 import A2C, PPO, SAC, TD3
 
-    found: dict[str, Any] = {"ppo": PPO, "sac": SAC}
+    found: dict[str, Any] = {"ppo": PPO, "a2c": A2C, "sac": SAC, "td3": TD3}
     try:
-        from sb3_contrib import TQC
+        from sb3_contrib import TQC, RecurrentPPO
     except ImportError:
         return found
-    return {**found, "tqc": TQC}
+    return {**found, "tqc": TQC, "recurrent_ppo": RecurrentPPO}
+
+
+#: the algorithms whose policy keeps a state between steps (an LSTM's)
+RECURRENT = frozenset({"recurrent_ppo"})
 
 
 def has_policy_files(directory: Path) -> bool:
@@ -147,6 +153,14 @@ def _numbers(array: np.ndarray) -> Any:
     return np.array(flat, dtype=object).reshape(array.shape).tolist()
 
 
+def _bound(array: np.ndarray) -> Any:
+    """Return a Box's bound: one number where every element is the same (an image's 0 or 255)."""
+    flat = np.asarray(array).ravel()
+    if flat.size and np.all(flat == flat[0]):
+        return _numbers(flat[:1])[0]
+    return _numbers(np.asarray(array))
+
+
 def space_to_json(space: Any) -> dict[str, Any]:
     """Describe a Gymnasium ``Box``, ``Discrete`` or ``Dict`` space as JSON values."""
     from gymnasium import spaces
@@ -158,8 +172,8 @@ def space_to_json(space: Any) -> dict[str, Any]:
             "type": "Box",
             "shape": list(space.shape),
             "dtype": str(space.dtype),
-            "low": _numbers(space.low),
-            "high": _numbers(space.high),
+            "low": _bound(space.low),
+            "high": _bound(space.high),
         }
     if isinstance(space, spaces.Discrete):
         return {"type": "Discrete", "n": int(space.n), "start": int(space.start)}
@@ -187,14 +201,22 @@ def space_from_json(data: Any, where: str = "space") -> Any:
             if dtype.kind not in "fiu":
                 raise ValueError(f"dtype {dtype} is not numeric")
             shape = tuple(int(n) for n in data["shape"])
-            low = np.array(data["low"], dtype=np.float64).reshape(shape)
-            high = np.array(data["high"], dtype=np.float64).reshape(shape)
+            # a bound is an array of the shape, or one number for every element
+            low = _bound_from(data["low"], shape)
+            high = _bound_from(data["high"], shape)
             return spaces.Box(low.astype(dtype), high.astype(dtype), shape, dtype)
         if kind == "Discrete":
             return spaces.Discrete(int(data["n"]), start=int(data["start"]))
     except (KeyError, TypeError, ValueError, AttributeError) as error:
         raise ValueError(f"{where}: not a space description ({error})") from None
     raise ValueError(f"{where}: unknown space type {str(kind)[:40]!r}")
+
+
+def _bound_from(value: Any, shape: tuple[int, ...]) -> np.ndarray:
+    bound = np.array(value, dtype=np.float64)
+    if bound.ndim == 0:
+        return np.full(shape, float(bound))
+    return bound.reshape(shape)
 
 
 def _sha256(path: Path) -> str:

@@ -14,7 +14,17 @@ from typing import Any
 
 from radial_ibvs_agents.io import write_json
 from radial_ibvs_agents.learned.files.model_dir import replace_model_files
-from radial_ibvs_agents.learned.files.model_files import algorithms, save_normalization, save_policy
+from radial_ibvs_agents.learned.files.model_files import (
+    algorithms,
+    save_normalization,
+    save_policy,
+    space_to_json,
+)
+from radial_ibvs_agents.learned.files.observation_wrappers import (
+    describe_wrappers,
+    replay_space,
+    same_space,
+)
 from radial_ibvs_gym.registration import check_env_id
 
 __all__ = ["env_spec_of", "save_model_dir"]
@@ -94,6 +104,46 @@ def _vec_normalize(env: Any) -> Any:
     return next((layer for layer in _layers(env) if isinstance(layer, VecNormalize)), None)
 
 
+def _observation_path(model: Any, source: Any) -> dict[str, Any]:
+    """Return the metadata entries of what stood between the env and the policy.
+
+    ``observation_wrappers`` (:mod:`~radial_ibvs_agents.learned.files.observation_wrappers`)
+    and, where they change the observation's shape, ``env_observation_space`` (the env's own,
+    one robot's). Nothing when the policy sees the env's observations as they are.
+
+    Raises
+    ------
+    ValueError
+        If the policy's observation space is not what the env's becomes behind the recorded
+        wrappers (a wrapper that could not be read: a Gymnasium wrapper inside the envs).
+    """
+    from stable_baselines3.common.vec_env import VecEnv, VecEnvWrapper
+
+    if not isinstance(source, VecEnv):
+        return {}
+    wrappers = describe_wrappers(source)
+    base = source
+    while isinstance(base, VecEnvWrapper):
+        base = base.venv
+    space, wanted = base.observation_space, model.policy.observation_space
+    if not same_space(replay_space(wrappers, space), wanted):
+        # the algorithm transposes channel-last images itself, on an env given as it was
+        if same_space(replay_space([*wrappers, {"name": "transpose_image"}], space), wanted):
+            wrappers.append({"name": "transpose_image"})
+        else:
+            raise ValueError(
+                f"the model sees {wanted}, but the env gives {space} and its wrappers "
+                f"{[w['name'] for w in wrappers]} make it {replay_space(wrappers, space)}: "
+                "save the model with the env it was trained on (model.get_env())"
+            )
+    if not wrappers:
+        return {}
+    entries: dict[str, Any] = {"observation_wrappers": wrappers}
+    if any(w["name"] != "normalize" for w in wrappers):
+        entries["env_observation_space"] = space_to_json(space)
+    return entries
+
+
 def save_model_dir(
     model: Any,
     directory: Path | str,
@@ -116,14 +166,19 @@ def save_model_dir(
     Parameters
     ----------
     model
-        A trained ``PPO``, ``SAC`` or ``TQC`` model (the algorithms of
-        :func:`~radial_ibvs_agents.learned.files.model_files.algorithms`).
+        A trained ``PPO``, ``A2C``, ``SAC``, ``TD3``, ``TQC`` or ``RecurrentPPO`` model (the
+        algorithms of :func:`~radial_ibvs_agents.learned.files.model_files.algorithms`), with
+        any policy (``MultiInputPolicy``, ``CnnPolicy``, ``MultiInputLstmPolicy``...), HER's
+        buffer or not.
     directory
         The model directory to write (created).
     env
         The env the model was trained on (an env, a vector env or a ``VecEnv``); default:
         ``model.get_env()``. The env id and arguments are read from it
-        (:func:`env_spec_of`), and its ``VecNormalize``, if any, gives ``normalization``.
+        (:func:`env_spec_of`), and its ``VecNormalize``, if any, gives ``normalization``. Its
+        observation wrappers (``VecFrameStack``, ``VecTransposeImage``, ``VecNormalize``) are
+        recorded, so that the loaded policy takes the env's own observations
+        (:mod:`~radial_ibvs_agents.learned.files.observation_wrappers`).
     env_id, env_kwargs
         The Gymnasium id and ``gym.make`` arguments, where no env carries them (or to
         override what it carries).
@@ -140,7 +195,8 @@ def save_model_dir(
     Raises
     ------
     ValueError
-        For a model of another algorithm, or an env id that is not this package's (or none).
+        For a model of another algorithm, an env id that is not this package's (or none), or
+        an observation wrapper that cannot be replayed (named).
 
     Examples
     --------
@@ -151,7 +207,9 @@ def save_model_dir(
     >>> save_model_dir(model, "my-model")  # doctest: +SKIP
     >>> load("./my-model")  # doctest: +SKIP
     """
-    algo = next((k for k, cls in algorithms().items() if isinstance(model, cls)), None)
+    found = algorithms()
+    algo = next((k for k, cls in found.items() if type(model) is cls), None)
+    algo = algo or next((k for k, cls in found.items() if isinstance(model, cls)), None)
     if algo is None:
         raise ValueError(f"model must be one of {sorted(algorithms())}, got {type(model).__name__}")
     source = env if env is not None else model.get_env()
@@ -167,6 +225,7 @@ def save_model_dir(
         "algo": algo,
         "env_id": env_id,
         "env_kwargs": dict(env_kwargs or {}),
+        **_observation_path(model, source),
         **(metadata or {}),
     }
     with replace_model_files(directory) as staging:  # all at once, no stale file left
