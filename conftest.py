@@ -29,6 +29,22 @@ sys.path.insert(0, str(Path(__file__).resolve().parent / "notebooks"))
 sys.path.append(str(Path(__file__).resolve().parent / "tests" / "_support"))
 
 
+def pytest_configure(config):
+    """Execute the notebooks (nbmake's ``--nbmake``) wherever nbmake is installed.
+
+    The light test install (the ``test`` extra) has no Jupyter: the notebooks, slow tests, are
+    then not collected. ``RADIAL_IBVS_REQUIRE_NOTEBOOKS=1`` (CI) makes that an error instead.
+    """
+    import pytest
+
+    if config.pluginmanager.hasplugin("nbmake"):
+        config.option.nbmake = True
+    elif os.environ.get("RADIAL_IBVS_REQUIRE_NOTEBOOKS") == "1":
+        raise pytest.UsageError(
+            "RADIAL_IBVS_REQUIRE_NOTEBOOKS=1 but nbmake is not installed: pip install -e '.[dev]'"
+        )
+
+
 def pytest_collection_modifyitems(config, items):
     """Mark every notebook ``slow``: each executes from top to bottom (seconds to a minute)."""
     import pytest

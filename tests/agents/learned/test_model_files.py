@@ -256,15 +256,14 @@ def test_a_pickled_weights_file_is_a_value_error_even_when_trusted(tmp_path: Pat
     assert not marker.exists()
 
 
-@pytest.mark.parametrize("name", ["dagger-student"])
-def test_models_saved_before_the_moves_load_by_the_table_of_former_paths(name: str) -> None:
-    # the shipped models were saved when the extractors were agents.learned.extractors
-    folder = MODELS_DIR / name
+def test_models_saved_before_the_moves_load_by_the_table_of_former_paths() -> None:
+    # a student saved when the extractors were agents.learned.extractors (tests/_support/models)
+    folder = Path(__file__).resolve().parents[2] / "_support" / "models" / "saved-before-the-rename"
     former = "agents.learned.extractors.LandmarkPoseExtractor"
     assert former in (folder / "policy.json").read_text()
     current = "radial_ibvs_agents.learned.networks.extractors.LandmarkPoseExtractor"
     assert current_name(former) == current
-    safe = load(name)
+    safe = load(folder)
     extractor = safe.model.features_extractor
     assert type(extractor).__module__ == "radial_ibvs_agents.learned.networks.extractors"
     # a trusted model.zip: its pickles import the former module path, for the load only
