@@ -241,3 +241,20 @@ def test_a_model_that_runs_in_no_variant_fails_the_benchmark(
     assert f"{folder} ran in no variant of paper-lab" in captured.err
     assert f"skipped {folder} on paper-lab" in captured.out
     assert main([*argv, "--suites", "paper-lab", "held-out", "--out", str(tmp_path / "two")]) == 0
+
+
+@pytest.mark.parametrize("shape", [[100_000, 100_000], [-1, 4]])
+def test_a_space_described_by_one_number_cannot_ask_for_any_size(
+    shape: list[int], tmp_path: Path
+) -> None:
+    """A bound stored as one number is spread over the shape: the shape is bounded first."""
+    from radial_ibvs_agents.learned.files.model_files import space_from_json
+
+    described = {"type": "Box", "shape": shape, "dtype": "float32", "low": 0.0, "high": 1.0}
+    with pytest.raises(ValueError, match="MAX_SPACE_ELEMENTS"):
+        space_from_json(described, "observation_space")
+    folder = _stacked(tmp_path)
+    meta = json.loads((folder / "metadata.json").read_text())
+    (folder / "metadata.json").write_text(json.dumps({**meta, "env_observation_space": described}))
+    with pytest.raises(ValueError, match=r"env_observation_space.*MAX_SPACE_ELEMENTS"):
+        load(folder)

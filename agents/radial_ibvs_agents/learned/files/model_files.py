@@ -30,6 +30,7 @@ import numpy as np
 from radial_ibvs_agents.io import write_atomic
 from radial_ibvs_agents.learned.files.former_paths import current_name
 from radial_ibvs_agents.learned.files.policy_size import (
+    MAX_SPACE_ELEMENTS,
     check_finite_weights,
     check_policy_size,
     check_weight_types,
@@ -201,6 +202,12 @@ def space_from_json(data: Any, where: str = "space") -> Any:
             if dtype.kind not in "fiu":
                 raise ValueError(f"dtype {dtype} is not numeric")
             shape = tuple(int(n) for n in data["shape"])
+            size = math.prod(shape)
+            if any(n < 0 for n in shape) or size > MAX_SPACE_ELEMENTS:  # before any allocation
+                raise ValueError(
+                    f"shape {shape!r:.80}: at most MAX_SPACE_ELEMENTS = {MAX_SPACE_ELEMENTS} "
+                    "numbers, none negative"
+                )
             # a bound is an array of the shape, or one number for every element
             low = _bound_from(data["low"], shape)
             high = _bound_from(data["high"], shape)
