@@ -228,6 +228,7 @@ def _bomb_model(tmp_path: Path) -> Path:
     return _copy_shipped(tmp_path, "bomb")
 
 
+@pytest.mark.slow  # a real bomb (6 s)
 def test_the_memory_cap_lets_a_model_load_and_stops_a_real_bomb(tmp_path: Path) -> None:
     """The cap is tight enough to matter: an honest load passes, a 16 GiB network does not."""
     result = _under_memory_cap(f"from radial_ibvs_agents import load; load({SHIPPED!r})", tmp_path)
@@ -275,6 +276,7 @@ def _zip_bomb(path: Path, member: str, inflated: int) -> None:
                 handle.write(block)
 
 
+@pytest.mark.slow  # writes and reads a large archive (11 s)
 def test_a_normalization_member_that_inflates_past_the_cap_is_refused(tmp_path: Path) -> None:
     model = _bomb_model(tmp_path)
     _zip_bomb(model / "normalization.npz", "mean/observation.npy", 4 << 30)

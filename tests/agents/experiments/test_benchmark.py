@@ -371,6 +371,7 @@ def test_a_rerun_with_fewer_policies_keeps_the_other_rows(tmp_path: Path, capsys
     assert {r["policy"] for r in second} == {"ibvs", "oracle"}
 
 
+@pytest.mark.slow  # runs the benchmark command twice (8 s)
 def test_the_benchmark_command_says_the_rule_it_judged_by(tmp_path: Path, capsys) -> None:
     base = ["benchmark", "--suites", "paper", "--policies", "ibvs", "--episodes", "1"]
     assert main([*base, "--no-progress", "--out", str(tmp_path / "park")]) == 0
