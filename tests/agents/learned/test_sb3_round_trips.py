@@ -272,3 +272,20 @@ def test_a_space_described_by_one_number_cannot_ask_for_any_size(
     (folder / "metadata.json").write_text(json.dumps({**meta, "env_observation_space": described}))
     with pytest.raises(ValueError, match=r"env_observation_space.*MAX_SPACE_ELEMENTS"):
         load(folder)
+
+
+def test_an_image_model_saved_with_its_plain_env_records_the_transposition(tmp_path: Path) -> None:
+    """SB3 transposes channel-last images itself: saved with ``env=`` the env as made (no
+    wrapper to read), the model still records it, and evaluates on that env's images."""
+    from stable_baselines3 import PPO
+
+    env = gym.make("RadialIBVS/ParkingImage-v0", image_layout="channels", image_size=48, **WORLD)
+    model = PPO("CnnPolicy", env, n_steps=8, batch_size=8, seed=0)
+    folder = save_model_dir(model, tmp_path / "cnn", env=env)
+    policy = load(folder)
+    assert [w["name"] for w in policy.wrappers] == ["transpose_image"]
+    policy.check_observation_space(env.observation_space)
+    obs, _ = env.reset(seed=0)
+    expected, _ = model.predict(np.transpose(obs, (2, 0, 1)), deterministic=True)
+    np.testing.assert_allclose(policy.predict(obs)[0], expected, rtol=0, atol=1e-6)
+    env.close()

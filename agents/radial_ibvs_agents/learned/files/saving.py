@@ -119,13 +119,17 @@ def _observation_path(model: Any, source: Any) -> dict[str, Any]:
     """
     from stable_baselines3.common.vec_env import VecEnv, VecEnvWrapper
 
-    if not isinstance(source, VecEnv):
+    if isinstance(source, VecEnv):
+        wrappers = describe_wrappers(source)
+        base = source
+        while isinstance(base, VecEnvWrapper):
+            base = base.venv
+        space = base.observation_space
+    elif getattr(source, "observation_space", None) is not None:  # one env, given as env=
+        wrappers, space = [], source.observation_space
+    else:
         return {}
-    wrappers = describe_wrappers(source)
-    base = source
-    while isinstance(base, VecEnvWrapper):
-        base = base.venv
-    space, wanted = base.observation_space, model.policy.observation_space
+    wanted = model.policy.observation_space
     if not same_space(replay_space(wrappers, space), wanted):
         # the algorithm transposes channel-last images itself, on an env given as it was
         if same_space(replay_space([*wrappers, {"name": "transpose_image"}], space), wanted):
