@@ -82,15 +82,6 @@ def _model(case: str) -> tuple[Any, int]:
     return models[case]()
 
 
-def _raw(venv: Any) -> Any:
-    """The innermost ``VecEnv`` (under SB3's wrappers)."""
-    from stable_baselines3.common.vec_env import VecEnvWrapper
-
-    while isinstance(venv, VecEnvWrapper):
-        venv = venv.venv
-    return venv
-
-
 def _compare(model: Any, folder: Path) -> None:
     """SB3's ``predict`` on the model's VecEnv equals the loaded policy's on plain envs."""
     venv = model.get_env()

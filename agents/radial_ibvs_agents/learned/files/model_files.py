@@ -40,7 +40,6 @@ from radial_ibvs_agents.untrusted import check_archive, read_json, sha256_file
 
 __all__ = [
     "DESCRIPTION",
-    "RECURRENT",
     "WEIGHTS",
     "algorithms",
     "has_policy_files",
@@ -74,10 +73,6 @@ def algorithms() -> dict[str, Any]:
     except ImportError:
         return found
     return {**found, "tqc": TQC, "recurrent_ppo": RecurrentPPO}
-
-
-#: the algorithms whose policy keeps a state between steps (an LSTM's)
-RECURRENT = frozenset({"recurrent_ppo"})
 
 
 def has_policy_files(directory: Path) -> bool:

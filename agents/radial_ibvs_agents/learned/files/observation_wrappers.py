@@ -232,9 +232,8 @@ class ObservationReplay:
             else:
                 feed.dones = np.asarray(episode_start, dtype=bool).copy()
                 observation, _, _, _ = layer.step_wait()
-            observation = _copy(observation)
         self.started = True
-        return observation
+        return _copy(observation)  # a frame stack hands out its own buffer: the caller's copy
 
 
 def _copy(value: Any) -> Any:
