@@ -1,17 +1,22 @@
 """The vector env through an imperfect camera: batched projection against env by env.
 
-Usage: ``python benchmarks/bench_camera.py [--envs 64 256] [--steps 100] [--repeats 2]``.
+Usage: ``python benchmarks/bench_camera.py [--envs 64 256] [--steps 100] [--rounds 3]
+[--env-by-env]``.
 
 With camera imperfections (drawn per episode here, as in domain-randomised training:
 ``research/configs/ppo_residual_dr.yaml``) every robot's landmarks are projected exactly through
-the non-central mirror. :func:`radial_ibvs_gym.camera.measurement.camera_images` finds the
-reflection points of all the robots in one call (a first guess from a table of the mirror's
-roots, a bracket about it, Illinois iterations: :mod:`radial_ibvs_gym.camera.meridian`); the
-"env by env" row replaces it with one :func:`~radial_ibvs_gym.camera.measurement.camera_image`
-call per robot. Both runs are seeded alike and send the same random actions, so they step the
-same trajectories (the batched path is bit-for-bit the same). The ideal camera (eq. 9 in closed
-form) is the ceiling; "ideal / batched" is how many times slower the real camera steps (the
-goal: at most 3). Env steps per second (robots times batched steps), best of ``--repeats``.
+the non-central mirror. The env keeps its cameras as arrays
+(:class:`radial_ibvs_gym.envs.camera_rows.CameraRows`), finds the reflection points of all the
+robots in one call (a first guess from a table of the mirror's roots, a bracket about it,
+Illinois iterations: :mod:`radial_ibvs_gym.camera.meridian`) and draws each robot's noise from
+its own generator a block of steps at a time (:mod:`radial_ibvs_gym.envs.noise_blocks`). The
+``--env-by-env`` column replaces that with one
+:func:`~radial_ibvs_gym.camera.measurement.camera_image` call per robot; every run is seeded
+alike and sends the same random actions, so they step the same trajectories (the batched path
+is bit-for-bit the same). The ideal camera (eq. 9 in closed form) is the ceiling; "ideal /
+imperfect" is how many times slower the real camera steps (the goal: at most 3), the median of
+``--rounds`` rounds, each timing the ideal and the imperfect env one after the other. Env steps
+per second (robots times batched steps).
 """
 
 from __future__ import annotations
@@ -26,6 +31,7 @@ import numpy as np
 
 import radial_ibvs_gym  # noqa: F401  (registers the environments)
 from radial_ibvs_gym.camera import measurement as logic
+from radial_ibvs_gym.envs.camera_rows import CameraRows
 
 KWARGS: dict[str, Any] = {
     "scenario": "random",
@@ -45,8 +51,12 @@ CAMERA = {
 }
 
 
-def _one_by_one(cameras: Any, p_cam: Any, rngs: Any) -> Any:
-    rows = [logic.camera_image(c, p, r) for c, p, r in zip(cameras, p_cam, rngs, strict=True)]
+def _one_by_one(self: Any, indices: Any, p_cam: Any, rngs: Any) -> Any:
+    """``CameraRows.measure`` camera by camera: one ``camera_image`` call per robot."""
+    rows = []
+    for i, p, rng in zip(indices.tolist(), p_cam, rngs, strict=True):
+        self.noise.sync(i, rng)  # its generator as one draw a step leaves it
+        rows.append(logic.camera_image(self.cameras[i], p, rng))
     return np.stack([r[0] for r in rows]), np.stack([r[1] for r in rows])
 
 
@@ -70,21 +80,37 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--envs", type=int, nargs="+", default=[64, 256])
     parser.add_argument("--steps", type=int, default=100)
-    parser.add_argument("--repeats", type=int, default=2)
+    parser.add_argument("--rounds", type=int, default=3)
+    parser.add_argument(
+        "--env-by-env", action="store_true", help="also time one camera_image call per robot"
+    )
     args = parser.parse_args()
+    for name in ("steps", "rounds"):
+        if getattr(args, name) < 1:
+            parser.error(f"--{name} must be a positive integer, got {getattr(args, name)}")
     print(f"# imperfect camera, drawn per episode; {platform.processor() or platform.machine()}")
-    print("| envs | ideal camera | imperfect, batched | imperfect, env by env | ideal / batched |")
-    print("|---:|---:|---:|---:|---:|")
-    batched_fn = logic.camera_images
+    print("| envs | ideal camera | imperfect | ideal / imperfect (median, each round) |")
+    print("|---:|---:|---:|---|")
     for n in args.envs:
-        ideal = rate(n, args.steps, args.repeats)
-        batched = rate(n, args.steps, args.repeats, camera=CAMERA)
-        logic.camera_images = _one_by_one  # type: ignore[assignment]
+        ideal, real = [], []
+        for _ in range(args.rounds):
+            ideal.append(rate(n, args.steps, 1))
+            real.append(rate(n, args.steps, 1, camera=CAMERA))
+        ratios = [a / b for a, b in zip(ideal, real, strict=True)]
+        each = ", ".join(f"{r:.2f}" for r in ratios)
+        print(
+            f"| {n} | {np.median(ideal):,.0f} | {np.median(real):,.0f} "
+            f"| **{np.median(ratios):.2f}x** ({each}) |"
+        )
+    if args.env_by_env:
+        batched = CameraRows.measure
+        CameraRows.measure = _one_by_one  # type: ignore[method-assign]
         try:
-            single = rate(n, args.steps, args.repeats, camera=CAMERA)
+            for n in args.envs:
+                single = rate(n, args.steps, 1, camera=CAMERA)
+                print(f"env by env, {n} envs: {single:,.0f} env steps/s")
         finally:
-            logic.camera_images = batched_fn  # type: ignore[assignment]
-        print(f"| {n} | {ideal:,.0f} | {batched:,.0f} | {single:,.0f} | {ideal / batched:.1f}x |")
+            CameraRows.measure = batched  # type: ignore[method-assign]
 
 
 if __name__ == "__main__":

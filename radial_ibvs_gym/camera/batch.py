@@ -19,7 +19,13 @@ from numpy.typing import ArrayLike, NDArray
 from radial_ibvs_gym._validation import as_float_array, check_finite, check_last_dim
 from radial_ibvs_gym.camera.catadioptric import CatadioptricCamera, Projection
 
-__all__ = ["forward_batch", "project_shared", "shares_reflection"]
+__all__ = [
+    "forward_batch",
+    "project_rows",
+    "project_shared",
+    "shares_reflection",
+    "true_rows",
+]
 
 
 def shares_reflection(cameras: Sequence[CatadioptricCamera]) -> bool:
@@ -96,32 +102,76 @@ def project_shared(
     The hot path of :func:`~radial_ibvs_gym.camera.measurement.camera_images`: the caller
     guarantees :func:`shares_reflection`, finite ``(K, N, 3)`` points and ``K`` generators.
     """
+    n = p.shape[1]
+    # each camera's noise from its own generator: rng.normal(0, std) is 0 + std * z with z
+    # drawn as rng.standard_normal draws it, so one multiplication serves every camera
+    stds = np.array(
+        [
+            c.imperfections.pixel_noise_std if rng is not None else 0.0
+            for c, rng in zip(cameras, generators, strict=True)
+        ]
+    )
+    normals = None
+    if stds.any():
+        quiet = np.zeros((n, 2))
+        normals = np.stack(
+            [
+                rng.standard_normal((n, 2)) if std > 0.0 and rng is not None else quiet
+                for std, rng in zip(stds.tolist(), generators, strict=True)
+            ]
+        )
+    return project_rows(cameras[0], true_rows(cameras), p, stds, normals)
+
+
+def true_rows(cameras: Sequence[CatadioptricCamera]) -> NDArray[np.float64]:
+    """Each camera's true ``(fx, fy, mu_x, mu_y)``, pixels, ``(K, 4)``."""
+    return np.array([c._true_row for c in cameras], dtype=np.float64).reshape(-1, 4)
+
+
+def project_rows(
+    first: CatadioptricCamera,
+    rows: NDArray[np.float64],
+    p: NDArray[np.float64],
+    stds: NDArray[np.float64],
+    normals: NDArray[np.float64] | None,
+) -> Projection:
+    """:func:`project_shared` from the cameras' numbers: their intrinsics and noise drawn.
+
+    For a caller that keeps each camera's numbers in arrays (a vector env, over its episodes)
+    and draws the noise itself (:class:`~radial_ibvs_gym.envs.noise_blocks.NoiseBlocks`).
+    Unchecked, as :func:`project_shared`.
+
+    Parameters
+    ----------
+    first
+        One of the ``K`` cameras, which all share its reflection (:func:`shares_reflection`).
+    rows
+        ``(K, 4)`` each camera's true ``(fx, fy, mu_x, mu_y)``, pixels (:func:`true_rows`).
+    p
+        ``(K, N, 3)`` finite points, row ``k`` in camera ``k``'s frame, metres.
+    stds
+        ``(K,)`` each camera's pixel noise standard deviation, pixels (0: none).
+    normals
+        ``(K, N, 2)`` standard normal draws (zeros where a camera draws none), or ``None``
+        where no camera has noise.
+
+    Returns
+    -------
+    Projection
+        As :func:`forward_batch`.
+    """
     k, n = p.shape[:2]
-    first = cameras[0]
     m_m, p_m = first._reflect(p.reshape(-1, 3))
     q, visible = first._sensor_rays(m_m, p_m)
     # each camera's true (fx, fy, mu_x, mu_y), applied as Intrinsics.project does
-    true = np.array([c._true_row for c in cameras])[:, None, :]
+    true = rows[:, None, :]
     with np.errstate(invalid="ignore", divide="ignore"):
         x = (q[:, :2] / q[:, 2:3]).reshape(k, n, 2)
         pixels = true[..., :2] * x + true[..., 2:]
         # the sensor's size is the nominal one, shared
         visible = visible.reshape(k, n) & first.true_intrinsics.contains(pixels)
-    # each camera's noise from its own generator: rng.normal(0, std) is 0 + std * z with z
-    # drawn as rng.standard_normal draws it, so one multiplication serves every camera
-    stds = [
-        c.imperfections.pixel_noise_std if rng is not None else 0.0
-        for c, rng in zip(cameras, generators, strict=True)
-    ]
-    if any(stds):
-        quiet = np.zeros((n, 2))
-        noise = np.stack(
-            [
-                rng.standard_normal((n, 2)) if std > 0.0 and rng is not None else quiet
-                for std, rng in zip(stds, generators, strict=True)
-            ]
-        )
-        pixels += np.array(stds)[:, None, None] * noise
+    if normals is not None:
+        pixels += stds[:, None, None] * normals
     pixels = np.where(visible[..., None], pixels, np.nan)
     mirror_points = m_m - np.array([0.0, 0.0, first.camera_z])
     return Projection(pixels, mirror_points.reshape(k, n, 3), visible)

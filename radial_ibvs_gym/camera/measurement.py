@@ -14,11 +14,11 @@ import numpy as np
 from numpy.typing import NDArray
 
 from radial_ibvs_gym._validation import check_finite, check_last_dim
-from radial_ibvs_gym.camera.batch import project_shared, shares_reflection
-from radial_ibvs_gym.camera.catadioptric import CatadioptricCamera
+from radial_ibvs_gym.camera.batch import project_rows, project_shared, shares_reflection
+from radial_ibvs_gym.camera.catadioptric import CatadioptricCamera, Projection
 from radial_ibvs_gym.camera.radial import normalise_pixels, normalise_unchecked
 
-__all__ = ["camera_image", "camera_images"]
+__all__ = ["camera_image", "camera_images", "camera_images_shared"]
 
 Array = NDArray[np.float64]
 
@@ -105,13 +105,57 @@ def camera_images(
     proj = project_shared(
         group, p_cam if every else p_cam[batched], rngs if every else [rngs[i] for i in batched]
     )
-    nominal = group[0].intrinsics  # shared by the group
-    centre = np.asarray(nominal.principal_point, dtype=np.float64)
-    shown = proj.visible[..., None]
-    pixels = np.where(shown, proj.pixels, centre + 1.0)
-    x_n = np.where(shown, normalise_unchecked(pixels, centre, nominal.rho_f), 0.0)
+    x_n = _normalised(group[0], proj)
     if every:
         return x_n, proj.visible
     points[batched] = x_n
     visible[batched] = proj.visible
     return points, visible
+
+
+def camera_images_shared(
+    first: CatadioptricCamera,
+    rows: Array,
+    p_cam: Array,
+    stds: Array,
+    normals: Array | None,
+) -> tuple[Array, NDArray[np.bool_]]:
+    """:func:`camera_images` for cameras kept as arrays, which share ``first``'s reflection.
+
+    What a vector env calls at each step: its cameras' true intrinsics and noise levels held
+    in arrays over its episodes, the noise drawn by the env
+    (:class:`~radial_ibvs_gym.envs.noise_blocks.NoiseBlocks`). Row for row and bit for bit,
+    :func:`camera_image` of each camera with that noise. Unchecked: every camera has
+    imperfections and shares ``first``'s reflection
+    (:func:`~radial_ibvs_gym.camera.batch.shares_reflection`), the points are finite.
+
+    Parameters
+    ----------
+    first
+        One of the cameras.
+    rows
+        ``(K, 4)`` each camera's true ``(fx, fy, mu_x, mu_y)``, pixels
+        (:func:`~radial_ibvs_gym.camera.batch.true_rows`).
+    p_cam
+        ``(K, N, 3)`` landmarks, row ``k`` in camera ``k``'s frame, metres.
+    stds
+        ``(K,)`` each camera's pixel noise standard deviation, pixels.
+    normals
+        ``(K, N, 2)`` standard normal draws, zeros where ``stds`` is 0; ``None``: no noise.
+
+    Returns
+    -------
+    points, visible
+        ``(K, N, 2)`` (zeros where hidden) and ``(K, N)``.
+    """
+    proj = project_rows(first, rows, p_cam, stds, normals)
+    return _normalised(first, proj), proj.visible
+
+
+def _normalised(first: CatadioptricCamera, proj: Projection) -> Array:
+    """Eq. (7) with the nominal intrinsics (shared by the group); zeros where hidden."""
+    nominal = first.intrinsics
+    centre = np.asarray(nominal.principal_point, dtype=np.float64)
+    shown = proj.visible[..., None]
+    pixels = np.where(shown, proj.pixels, centre + 1.0)
+    return np.where(shown, normalise_unchecked(pixels, centre, nominal.rho_f), 0.0)

@@ -28,10 +28,10 @@ from gymnasium.vector import VectorEnv
 from gymnasium.vector.utils import batch_space
 from numpy.typing import NDArray
 
-from radial_ibvs_gym.camera import measurement
 from radial_ibvs_gym.envs import observation as seen
 from radial_ibvs_gym.envs import rules
 from radial_ibvs_gym.envs.autoreset import AutoresetMode
+from radial_ibvs_gym.envs.camera_rows import CameraRows
 from radial_ibvs_gym.envs.config import ParkingConfig
 from radial_ibvs_gym.envs.episode_batch import EpisodeBatch
 from radial_ibvs_gym.envs.episodes import EpisodeSetup, EpisodeSource
@@ -170,6 +170,8 @@ class ParkingVectorEnv(VectorEnv):
         camera = self.scenario.config.camera
         self._drawn = camera.imperfection_ranges is not None  # imperfections drawn per episode
         self._fast = not (camera.imperfections.any or self._drawn)
+        #: the imperfect cameras as arrays, their noise drawn ahead (None: the ideal camera)
+        self._cameras = None if self._fast else CameraRows(n, nl)
 
     def _single_observation_space(self) -> spaces.Space[Any]:
         """One robot's observation space (the scalar env's)."""
@@ -216,6 +218,8 @@ class ParkingVectorEnv(VectorEnv):
                 )
         for i in np.flatnonzero(mask).tolist():
             if seeds[i] is not None or self._rngs[i] is None:
+                if self._cameras is not None:  # noise drawn ahead from the replaced generator
+                    self._cameras.noise.drop(i)
                 self._rngs[i] = seeding.np_random(seeds[i])[0]
         indices = np.flatnonzero(mask)
         self._reset_envs(indices, options)
@@ -235,8 +239,12 @@ class ParkingVectorEnv(VectorEnv):
         for i in indices.tolist():
             rng = self._rngs[i]
             assert rng is not None
+            if self._cameras is not None:  # the generator as one noise draw a step leaves it
+                self._cameras.noise.sync(i, rng)
             setup = self.episodes.setup_episode(rng, task, options)
             self.batch.put(i, setup)
+            if self._cameras is not None:
+                self._cameras.put(i, setup.cameras["current"])
             rooms.append(setup.episode.room)
             starts.append(setup.episode.start)
             obstacles.append(setup.episode.obstacles)
@@ -373,14 +381,13 @@ class ParkingVectorEnv(VectorEnv):
                 )
             self._points[indices], self._visible[indices] = pts, vis
         elif len(indices):  # a camera with imperfections: exact projection and noise, batched
-            rows = indices.tolist()
-            cameras = [self._setup(i).cameras["current"] for i in rows]
-            rngs = [self._rngs[i] for i in rows]
+            assert self._cameras is not None
+            rngs = [self._rngs[i] for i in indices.tolist()]
             heights = batch.camera_heights[indices, None]  # (k, 1): each robot's height
             p_cam = world_to_camera(
                 batch.landmarks_w[indices], poses[indices], heights, validate=False
             )
-            points, visible = measurement.camera_images(cameras, p_cam, rngs)
+            points, visible = self._cameras.measure(indices, p_cam, rngs)
             present = batch.present[indices]
             if not present.all():  # a drawn landmark count: the absent are never visible
                 visible &= present
