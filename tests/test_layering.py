@@ -127,10 +127,11 @@ def test_the_import_graph_has_no_cycle() -> None:
 
 #: the env package's modules by job, lower first: a module may import only lower ones (and
 #: ``missed``, the missed-detection draws, ``viewer``, the renderer, ``autoreset``, the enum of
-#: Gymnasium >= 1.1, and ``slots``, the landmark slots, below them all)
+#: Gymnasium >= 1.1, ``slots``, the landmark slots, and ``noise_blocks``, the noise drawn ahead,
+#: below them all)
 ENV_JOBS = (
-    ("missed", "viewer", "autoreset", "slots"),
-    ("rules", "observation", "vector_info", "feature_errors"),
+    ("missed", "viewer", "autoreset", "slots", "noise_blocks"),
+    ("rules", "observation", "vector_info", "feature_errors", "camera_rows"),
     ("config",),
     ("episodes",),
     ("episode_batch",),
@@ -161,7 +162,9 @@ def test_the_env_modules_import_by_job_one_way() -> None:
 
 
 #: the rooms of ``agents``, lower first: a module may import only its own room and lower ones
-AGENT_ROOMS = ("utilities", "rollouts", "analytic", "learned", "policies", "experiments", "cli")
+AGENT_ROOMS = (
+    "utilities", "rollouts", "analytic", "learned", "policies", "experiments", "bags", "cli",
+)  # fmt: skip
 #: the loose modules of ``agents``: the shared utilities, the rows of the rollouts (beside
 #: them), and on top of both kinds of policy, the registry of every policy by name
 AGENT_LOOSE = {
@@ -179,7 +182,14 @@ MAX_LOOSE = 6
 
 def _room(module: str) -> str:
     parts = module.split(".")
-    if len(parts) > 1 and parts[1] in ("rollouts", "analytic", "learned", "experiments", "cli"):
+    if len(parts) > 1 and parts[1] in (
+        "rollouts",
+        "analytic",
+        "learned",
+        "experiments",
+        "bags",
+        "cli",
+    ):
         return parts[1]
     if module not in AGENT_LOOSE:
         raise AssertionError(f"{module} is in no room: add it to a room or to AGENT_LOOSE")

@@ -263,6 +263,34 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         return self.config.control_dt
 
     @property
+    def episode_setup(self) -> EpisodeSetup | None:
+        """The current episode (room, landmarks, start, goal, cameras); ``None`` before a reset.
+
+        Read-only by convention: what a recorder or a viewer reads, not a knob.
+        """
+        return self._setup
+
+    @property
+    def image_points(self) -> tuple[np.ndarray, np.ndarray]:
+        """The current image: normalised points ``(N, 2)`` and visibility ``(N,)``.
+
+        Copies; the points are zeros where a landmark is not seen (the observation's ``points``
+        before any slot order).
+        """
+        return self._points.copy(), self._visible.copy()
+
+    @property
+    def detected_frames(self) -> dict[str, np.ndarray]:
+        """The last images the detector read (``measurement="detected"``).
+
+        By ``"goal"`` and ``"current"``: ``(H, W)`` uint8 grey levels; empty for the other
+        measurements.
+        """
+        if self._detector is None:
+            return {}
+        return {k: frame.image for k, frame in self._detector.last.items()}
+
+    @property
     def start_reach(self) -> float:
         """The fraction of the start distribution drawn from (:attr:`EpisodeSource.start_reach`).
 

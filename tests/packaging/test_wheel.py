@@ -38,6 +38,7 @@ def test_the_sdist_and_wheel_pass_the_release_checks(dist: Path) -> None:
         "radial_ibvs_agents/learned/models/dagger-student/policy.safetensors",
         "radial_ibvs_agents/learned/models/dagger-student/policy.json",
         "radial_ibvs_gym/py.typed",
+        "radial_ibvs_agents/bags/foxglove_layout.json",
     ):
         assert expected in names, expected
     assert any(n.endswith("licenses/LICENSE") for n in names)

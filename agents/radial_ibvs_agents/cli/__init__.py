@@ -2,8 +2,8 @@
 
 Each command module (:mod:`.demo`, :mod:`.reproduce`, :mod:`.evaluate`, :mod:`.train`,
 :mod:`.distill`, :mod:`.collect`, :mod:`.benchmark`, :mod:`.report`, :mod:`.sweep`, :mod:`.render`,
-:mod:`.image`) has ``add_parser(sub)`` and ``run(args)``; its heavy imports happen inside
-``run``, so ``radial-ibvs --help`` is instant.
+:mod:`.image`, :mod:`.record`) has ``add_parser(sub)`` and ``run(args)``; its heavy imports
+happen inside ``run``, so ``radial-ibvs --help`` is instant.
 """
 
 from __future__ import annotations
@@ -19,6 +19,7 @@ from radial_ibvs_agents.cli import (
     distill,
     evaluate,
     image,
+    record,
     render,
     report,
     reproduce,
@@ -41,6 +42,7 @@ COMMANDS = {
     "sweep": sweep,
     "render": render,
     "image": image,
+    "record": record,
 }
 
 
