@@ -84,7 +84,9 @@ class Measurement:
     Attributes
     ----------
     status
-        ``"ok"``, ``"border_not_found"`` (no calibration: ``x_n`` is empty) or ``"no_beacons"``.
+        ``"ok"``, ``"border_not_found"`` (no calibration: ``x_n`` is empty) or ``"no_beacons"``;
+        ``"no_frame"`` for a dropped frame of a recording (nothing measured:
+        :meth:`~radial_ibvs_gym.vision.pipeline.DetectedPoints.observe_image`).
     x_n
         ``(K, 2)`` eq. (7) points on the unit circle of the detected beacons.
     centres

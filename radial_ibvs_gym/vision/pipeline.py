@@ -91,21 +91,24 @@ class DetectedPoints:
     def _renderer(self, which: str) -> OmniRenderer:
         return self.renderers[which] or self.renderers["current"]  # type: ignore[return-value]
 
-    def _predicted(self, pose: NDArray[np.float64], which: str) -> NDArray[np.float64]:
-        """Image positions ``(N, 2)`` of the landmarks by forward projection (NaN: hidden)."""
-        assert self.scene is not None
-        p_cam = world_to_camera(self.scene.beacons, pose, self.camera_height)
+    def predicted(
+        self,
+        pose: NDArray[np.float64],
+        which: str,
+        landmarks: NDArray[np.float64] | None = None,
+    ) -> NDArray[np.float64]:
+        """Image positions ``(N, 2)`` (pixels) of the landmarks seen from ``pose``.
+
+        The forward projection through the camera ``which`` (``"current"`` or ``"goal"``) of
+        ``landmarks`` ``(N, 3)`` (metres; default: the scene's beacons); NaN where hidden.
+        What labels the landmarks at an episode's start.
+        """
+        if landmarks is None:
+            assert self.scene is not None
+            landmarks = self.scene.beacons
+        p_cam = world_to_camera(landmarks, pose, self.camera_height)
         proj = self.cameras[which].forward(p_cam)
         return self._renderer(which).sensor_to_image(proj.pixels)
-
-    def _measure(
-        self, pose: NDArray[np.float64], which: str, rng: np.random.Generator
-    ) -> Measurement:
-        assert self.scene is not None
-        image = self._renderer(which).render(pose, self.scene, self.quality, rng)
-        result = measure(image, border=self.border)
-        self.last[which] = _Frame(image, result)
-        return result
 
     def _points(
         self, match: NDArray[np.int64], result: Measurement
@@ -125,7 +128,7 @@ class DetectedPoints:
         goal: NDArray[np.float64],
         rng: np.random.Generator,
     ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-        """Start an episode: measure and label the goal image, label the first current image.
+        """Start an episode: render the goal image and the first image, then :meth:`start`.
 
         Returns
         -------
@@ -140,18 +143,54 @@ class DetectedPoints:
         """
         self.scene = room_scene(room, landmarks, self.beacon_radius)
         goal_image = self._renderer("goal").render(goal, self.scene, self.quality, rng)
+        first_image = self._renderer("current").render(start, self.scene, self.quality, rng)
+        return self.start(
+            goal_image,
+            self.predicted(goal, "goal"),
+            first_image,
+            self.predicted(start, "current"),
+        )
+
+    def start(
+        self,
+        goal_image: NDArray[np.uint8],
+        goal_labels: NDArray[np.float64],
+        first_image: NDArray[np.uint8],
+        first_labels: NDArray[np.float64],
+    ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+        """Start an episode from its images: calibrate, measure and label the goal and first.
+
+        The mirror border is fitted on the goal image (the paper calibrates once); a goal
+        camera other than the current one (mirror swap) fits its own on the first image.
+        Each image's beacons are labelled by the nearest of the given positions.
+
+        Parameters
+        ----------
+        goal_image, first_image
+            ``(H, W)`` uint8 grey levels: the goal image and the episode's first image.
+        goal_labels, first_labels
+            ``(N, 2)`` where each landmark is expected in each image, pixels (NaN: not
+            expected): :meth:`predicted` from a map and the poses, or a user's labels.
+
+        Returns
+        -------
+        goal_points, goal_visible
+            ``(N, 2)`` goal image points (zeros where not detected) and ``(N,)`` mask.
+
+        Raises
+        ------
+        ValueError
+            When an image to calibrate on shows no mirror border.
+        """
         goal_border = self._calibrate(goal_image, "goal image")
         result = measure(goal_image, border=goal_border)
         self.last["goal"] = _Frame(goal_image, result)
-        n = len(landmarks)
+        n = len(goal_labels)
         self.tracker = BeaconTracker(n, gate_px=self._gate())
-        goal_match = self.tracker.start(
-            result.centres, self._predicted(goal, "goal"), goal_border.centre
-        )
+        goal_match = self.tracker.start(result.centres, goal_labels, goal_border.centre)
         goal_points, goal_visible = self._points(goal_match, result)
         reference = np.full((n, 2), np.nan)  # the goal image's positions: the cyclic order
         reference[goal_visible] = result.centres[goal_match[goal_visible]]
-        first_image = self._renderer("current").render(start, self.scene, self.quality, rng)
         # one calibration per camera: the goal camera's border, unless the current one differs
         self.border = (
             goal_border
@@ -160,8 +199,7 @@ class DetectedPoints:
         )
         first = measure(first_image, border=self.border)
         self.last["current"] = _Frame(first_image, first)
-        predicted = self._predicted(start, "current")
-        match = self.tracker.start(first.centres, predicted, self._centre(), reference)
+        match = self.tracker.start(first.centres, first_labels, self._centre(), reference)
         self._current = self._points(match, first)
         self.status = first.status
         return goal_points, goal_visible
@@ -191,7 +229,21 @@ class DetectedPoints:
     def observe(
         self, pose: NDArray[np.float64], rng: np.random.Generator
     ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
-        """Measure the current image at ``pose`` and match it with the landmarks.
+        """Render the current image at ``pose`` and :meth:`observe_image` it."""
+        assert self.scene is not None
+        image = self._renderer("current").render(pose, self.scene, self.quality, rng)
+        return self.observe_image(image)
+
+    def observe_image(
+        self, image: NDArray[np.uint8] | None
+    ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+        """Measure a current image and match it with the landmarks (after :meth:`start`).
+
+        Parameters
+        ----------
+        image
+            ``(H, W)`` uint8 grey levels; ``None``: a dropped frame, nothing detected (every
+            tracked landmark coasts, as after a frame without beacons).
 
         Returns
         -------
@@ -200,7 +252,11 @@ class DetectedPoints:
             coasting after a missed frame keeps its predicted position (its last ``x_n``).
         """
         assert self.tracker is not None
-        result = self._measure(pose, "current", rng)
+        if image is None:
+            result = Measurement("no_frame", np.zeros((0, 2)), np.zeros((0, 2)), self.border, {})
+        else:
+            result = measure(image, border=self.border)
+            self.last["current"] = _Frame(image, result)
         match = self.tracker.update(result.centres, self._centre())
         points, visible = self._points(match, result)
         coasting = self.tracker.tracked & ~visible

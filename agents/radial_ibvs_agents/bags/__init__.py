@@ -4,6 +4,8 @@
   policy's episodes as a bag of standard messages, which Foxglove and ``ros2 bag play`` open
   (:data:`~radial_ibvs_agents.bags.messages.TOPICS`; the layout in
   :data:`FOXGLOVE_LAYOUT`).
+- :func:`~radial_ibvs_agents.bags.replay.replay_bag` (``radial-ibvs replay``): a bag's frames
+  through the pixel pipeline and an image-only policy; the commands each frame would send.
 """
 
 from __future__ import annotations

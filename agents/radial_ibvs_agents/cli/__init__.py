@@ -2,8 +2,8 @@
 
 Each command module (:mod:`.demo`, :mod:`.reproduce`, :mod:`.evaluate`, :mod:`.train`,
 :mod:`.distill`, :mod:`.collect`, :mod:`.benchmark`, :mod:`.report`, :mod:`.sweep`, :mod:`.render`,
-:mod:`.image`, :mod:`.record`) has ``add_parser(sub)`` and ``run(args)``; its heavy imports
-happen inside ``run``, so ``radial-ibvs --help`` is instant.
+:mod:`.image`, :mod:`.record`, :mod:`.replay`) has ``add_parser(sub)`` and ``run(args)``; its
+heavy imports happen inside ``run``, so ``radial-ibvs --help`` is instant.
 """
 
 from __future__ import annotations
@@ -21,6 +21,7 @@ from radial_ibvs_agents.cli import (
     image,
     record,
     render,
+    replay,
     report,
     reproduce,
     sweep,
@@ -43,6 +44,7 @@ COMMANDS = {
     "render": render,
     "image": image,
     "record": record,
+    "replay": replay,
 }
 
 

@@ -1,0 +1,187 @@
+"""radial-ibvs replay: a recording's frames through the pixel pipeline and a policy."""
+
+from __future__ import annotations
+
+import csv
+from collections.abc import Callable
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pytest
+
+pytest.importorskip("rosbags", reason="the [ros] extra")
+mcap_reader = pytest.importorskip("mcap.reader", reason="the [ros] extra")
+mcap_decoder = pytest.importorskip("mcap_ros2.decoder", reason="the [ros] extra")
+
+from rosbags.rosbag2 import Reader, StoragePlugin, Writer  # noqa: E402
+
+from radial_ibvs_agents.bags import replay as replay_module  # noqa: E402
+from radial_ibvs_agents.bags.messages import Messages  # noqa: E402
+from radial_ibvs_agents.bags.record import record_episodes  # noqa: E402
+from radial_ibvs_agents.bags.replay import BagError, replay_bag  # noqa: E402
+from radial_ibvs_agents.cli import main  # noqa: E402
+
+DETECTED = {"measurement": "detected", "image_size": 128}
+POLICY = "pbvs-ekf"  # filters the pose: predicts from its commands over each frame's interval
+
+
+def _read(bag: Path, topic: str) -> list[tuple[int, Any]]:
+    """``topic``'s messages (log time, decoded), read with the mcap library."""
+    (path,) = bag.glob("*.mcap")
+    with path.open("rb") as stream:
+        reader = mcap_reader.make_reader(stream, decoder_factories=[mcap_decoder.DecoderFactory()])
+        return [(m.log_time, d) for _, _, m, d in reader.iter_decoded_messages(topics=[topic])]
+
+
+@pytest.fixture(scope="module")
+def recorded(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, list[Any]]:
+    out = tmp_path_factory.mktemp("bags") / "run"
+    episodes = record_episodes(
+        POLICY, out, "paper-lab", episodes=2, seed=1, env_kwargs=DETECTED, max_steps=25,
+        progress=False,
+    )  # fmt: skip
+    return out, episodes
+
+
+def _copy(src: Path, dst: Path, edit: Callable[[str, int, Any, int], Any]) -> None:
+    """Copy a bag, each image message through ``edit(topic, log_ns, message, k)`` (None: drop)."""
+    messages = Messages()
+    store = messages.store
+    with Reader(src) as reader, Writer(dst, version=9, storage_plugin=StoragePlugin.MCAP) as out:
+        connections = {
+            c.id: out.add_connection(c.topic, c.msgtype, typestore=store)
+            for c in reader.connections
+        }
+        counts: dict[str, int] = {}
+        for connection, log_ns, raw in reader.messages():
+            data = raw
+            if connection.msgtype == "sensor_msgs/msg/Image":
+                k = counts.get(connection.topic, 0)
+                counts[connection.topic] = k + 1
+                message = edit(
+                    connection.topic, log_ns, store.deserialize_cdr(raw, connection.msgtype), k
+                )
+                if message is None:
+                    continue
+                data = messages.serialize(message)
+            out.write(connections[connection.id], log_ns, data)
+
+
+@pytest.mark.parametrize("episode", [0, 1])
+def test_a_replay_gives_the_recorded_commands_and_detections_frame_for_frame(
+    recorded: Any, episode: int, tmp_path: Path
+) -> None:
+    bag, episodes = recorded
+    out = tmp_path / "commands"
+    result = replay_bag(
+        bag, POLICY, out, "paper-lab", env_kwargs=DETECTED, episode=episode, progress=False
+    )
+    before = sum(e.steps + 1 for e in episodes[:episode])
+    steps = episodes[episode].steps
+    frames = [m for _, m in _read(bag, "/image_points")][before : before + steps + 1]
+    commands = [m for _, m in _read(bag, "/cmd_vel")][before - episode : before - episode + steps]
+    assert len(result.commands) == steps + 1 and result.dropped == 0
+    recorded_commands = np.array([[m.linear.x, m.angular.z] for m in commands])
+    np.testing.assert_array_equal(result.commands[:steps], recorded_commands)  # bit for bit
+    for k, message in enumerate(frames):
+        xy = np.asarray(message.data).reshape(-1, 2)
+        np.testing.assert_array_equal(np.isnan(xy[:, 0]), ~result.visible[k])
+        np.testing.assert_array_equal(xy[result.visible[k]], result.points[k][result.visible[k]])
+    # the output: the commands as a bag (read with the other library) and a CSV
+    written = _read(out, "/cmd_vel")
+    assert [t for t, _ in written] == result.stamps_ns.tolist()
+    np.testing.assert_array_equal([[m.linear.x, m.angular.z] for _, m in written], result.commands)
+    rows = list(csv.DictReader((out / "commands.csv").open()))
+    assert [float(r["v_m_s"]) for r in rows] == result.commands[:, 0].tolist()
+    assert {r["status"] for r in rows} <= {"ok", "no_beacons"}
+
+
+def test_a_dropped_frame_is_measured_as_nothing_seen_and_the_tracks_coast(
+    recorded: Any, tmp_path: Path
+) -> None:
+    bag, _ = recorded
+    gapped = tmp_path / "gapped"
+    _copy(bag, gapped, lambda topic, t, m, k: None if topic == "/camera/image" and k == 5 else m)
+    full = replay_bag(bag, POLICY, tmp_path / "a", env_kwargs=DETECTED, progress=False)
+    cut = replay_bag(gapped, POLICY, tmp_path / "b", env_kwargs=DETECTED, progress=False)
+    assert cut.dropped == 1 and len(cut.commands) == len(full.commands) - 1
+    np.testing.assert_array_equal(cut.commands[:5], full.commands[:5])  # before the gap
+    # after it, the same landmarks are tracked: those seen before coasted over the gap
+    np.testing.assert_array_equal(cut.visible[5], full.visible[6])
+    assert cut.stamps_ns[5] - cut.stamps_ns[4] == 200_000_000
+
+
+def test_frames_out_of_order_are_refused_by_index(recorded: Any, tmp_path: Path) -> None:
+    bag, _ = recorded
+    swapped = tmp_path / "swapped"
+
+    def swap(topic: str, t: int, message: Any, k: int) -> Any:
+        if topic == "/camera/image" and k == 3:
+            message.header.stamp.nanosec = 0  # stamped before the frames before it
+        return message
+
+    _copy(bag, swapped, swap)
+    with pytest.raises(BagError, match=r"/camera/image\[3\] is stamped .* out of order"):
+        replay_bag(swapped, POLICY, tmp_path / "o", env_kwargs=DETECTED, progress=False)
+
+
+def test_another_encoding_is_refused_by_name(recorded: Any, tmp_path: Path) -> None:
+    bag, _ = recorded
+    rgb = tmp_path / "rgb"
+
+    def colour(topic: str, t: int, message: Any, k: int) -> Any:
+        message.encoding = "rgb8" if k == 2 and topic == "/camera/image" else message.encoding
+        return message
+
+    _copy(bag, rgb, colour)
+    with pytest.raises(BagError, match=r"/camera/image\[2\]: encoding 'rgb8'"):
+        replay_bag(rgb, POLICY, tmp_path / "o", env_kwargs=DETECTED, progress=False)
+
+
+def test_a_missing_topic_is_named_with_the_bags_topics(recorded: Any, tmp_path: Path) -> None:
+    bag, _ = recorded
+    with pytest.raises(BagError, match=r"no topic '/camera/nope'; the bag has \["):
+        replay_bag(bag, POLICY, tmp_path / "o", image_topic="/camera/nope", progress=False)
+
+
+def test_sizes_are_bounded_before_anything_is_decoded(
+    recorded: Any, tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    bag, _ = recorded
+    monkeypatch.setattr(replay_module, "MAX_FRAME_PIXELS", 64 * 64)
+    with pytest.raises(BagError, match=r"a 128 x 128 frame \(at most 4096 pixels\)"):
+        replay_bag(bag, POLICY, tmp_path / "o", env_kwargs=DETECTED, progress=False)
+    monkeypatch.setattr(replay_module, "MAX_RECORD_BYTES", 1000)
+    with pytest.raises(BagError, match=r"exceeds limit 1000|\(at most 1000\)"):
+        replay_bag(bag, POLICY, tmp_path / "p", env_kwargs=DETECTED, progress=False)
+
+
+def test_what_is_not_a_bag_is_refused(tmp_path: Path) -> None:
+    fake = tmp_path / "fake.mcap"
+    fake.write_bytes(b"not an mcap file" * 10)
+    with pytest.raises(BagError, match="not a readable MCAP file"):
+        replay_bag(fake, POLICY, tmp_path / "o", progress=False)
+    with pytest.raises(BagError, match="no such bag"):
+        replay_bag(tmp_path / "nothing", POLICY, tmp_path / "o", progress=False)
+
+
+def test_a_policy_that_needs_the_true_pose_is_refused(recorded: Any, tmp_path: Path) -> None:
+    with pytest.raises(ValueError, match="image-only policies"):
+        replay_bag(recorded[0], "oracle", tmp_path / "o", env_kwargs=DETECTED, progress=False)
+
+
+def test_the_command_line(
+    recorded: Any, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = tmp_path / "cli"
+    args = ["replay", str(recorded[0]), "--policy", POLICY, "--out", str(out), "--no-progress"]
+    assert main([*args, "--env-kwarg", "image_size=128"]) == 0
+    assert "0 dropped" in capsys.readouterr().out
+    assert (out / "commands.csv").is_file()
+    assert main([*args, "--env-kwarg", "image_size=128"]) == 2  # the output exists
+    assert "exists" in capsys.readouterr().err
+    with pytest.raises(SystemExit):
+        main(["replay", str(recorded[0]), "--policy", POLICY, "--out", str(tmp_path / "x"),
+              "--start", "1,2"])  # fmt: skip
+    assert "expected X,Y,YAW" in capsys.readouterr().err
