@@ -12,7 +12,7 @@ A recording has no true pose: the landmarks of the goal image and of the first f
 labelled from a landmark map and the poses of those two images (the bag's ``/landmarks``,
 ``/odom`` and ``/tf`` where ``radial-ibvs record`` wrote them, or the caller's), and the goal
 depths come from the same map. A policy that predicts from the robot's motion (``pbvs-ekf``)
-is given each frame's interval from the time stamps (its ``control_dt``), not a fixed period.
+predicts over each interval to the next frame's stamp (its ``control_dt``), not a fixed period.
 A dropped frame (an interval over 1.5 periods) is measured as nothing seen: the tracked
 landmarks coast, as after a frame without beacons. Frames out of order, a missing topic or
 another encoding than ``mono8`` are named errors.
@@ -364,8 +364,9 @@ def replay_bag(
                         detector.observe_image(None)
                     result.dropped += missing
                     points, visible = detector.observe_image(frame.image)
-                    if hasattr(policy, "control_dt"):  # predicts from motion: the real interval
-                        policy.control_dt = dt
+                if hasattr(policy, "control_dt") and k + 1 < len(frames):
+                    # a policy that predicts the motion until the next frame: that interval
+                    policy.control_dt = (frames[k + 1].stamp_ns - frame.stamp_ns) / 1e9
                 obs = seen.observation(
                     points.reshape(-1), goal_points.reshape(-1), visible,
                     goal_depths=goal_depths if config.goal_depths else None,
