@@ -32,7 +32,7 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from radial_ibvs_agents.analytic.pbvs_ekf import Filters, PBVSEKFPolicy
+from radial_ibvs_agents.analytic.pbvs_ekf import Filters, PBVSEKFPolicy, executed_actions
 from radial_ibvs_agents.analytic.planner import MapPlanner, Plan
 
 __all__ = [
@@ -296,8 +296,13 @@ class EKFPlanner(PBVSEKFPolicy):
         state: Any = None,
         episode_start: np.ndarray | None = None,
         deterministic: bool = True,
+        *,
+        executed: np.ndarray | None = None,
     ) -> tuple[np.ndarray, Any]:
         """Action(s) for one observation or a batch; ``state`` an :class:`EKFPlannerState`.
+
+        ``executed``: the command the robot executes until the next frame, when not this
+        policy's own (:meth:`PBVSEKFPolicy.predict`).
 
         Returns
         -------
@@ -364,7 +369,8 @@ class EKFPlanner(PBVSEKFPolicy):
                 phase[i], left[i], sums[i], counts[i] = LOOK, self.look_steps, 0.0, 0
                 actions[i] = 0.0
         actions = np.clip(actions, -1.0, 1.0)
-        mean, cov, velocity = self._predict(mean, cov, velocity, actions, started)
+        moved = actions if executed is None else executed_actions(executed, b)
+        mean, cov, velocity = self._predict(mean, cov, velocity, moved, started)
         out = actions.astype(np.float32)
         filters = Filters(mean, cov, velocity, started)
         state = EKFPlannerState(filters, rooms, plans, phase, left, sums, counts, looks)

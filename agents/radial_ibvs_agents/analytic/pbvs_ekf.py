@@ -38,7 +38,23 @@ from radial_ibvs_agents.analytic.pbvs import PBVSPolicy
 from radial_ibvs_gym.geometry import wrap_angle
 from radial_ibvs_gym.physics.fleet import limit_commands
 
-__all__ = ["Filters", "PBVSEKFPolicy"]
+__all__ = ["Filters", "PBVSEKFPolicy", "executed_actions"]
+
+
+def executed_actions(executed: Any, batch: int) -> np.ndarray:
+    """Return ``executed`` commands as ``(batch, 2)`` actions, clipped to ``[-1, 1]``.
+
+    Raises
+    ------
+    ValueError
+        For another shape or a value that is not finite.
+    """
+    moved = np.asarray(executed, dtype=np.float64).reshape(-1, 2)
+    if moved.shape != (batch, 2) or not np.isfinite(moved).all():
+        raise ValueError(
+            f"executed must be {batch} finite (v, omega) action rows, got {np.shape(executed)}"
+        )
+    return np.clip(moved, -1.0, 1.0)
 
 
 class PBVSEKFPolicy(PBVSPolicy):
@@ -102,8 +118,18 @@ class PBVSEKFPolicy(PBVSPolicy):
         state: Any = None,
         episode_start: np.ndarray | None = None,
         deterministic: bool = True,
+        *,
+        executed: np.ndarray | None = None,
     ) -> tuple[np.ndarray, Any]:
         """Action(s) for one observation or a batch; ``state`` carries the filters (see Notes).
+
+        Parameters
+        ----------
+        executed
+            ``(2,)`` or ``(B, 2)``: the command the robot will execute until the next frame,
+            in action units, when it is not this policy's own (a replay of a robot driven
+            by something else, ``radial-ibvs replay --motion recorded``); the filter predicts
+            the motion from it. ``None``: from the action returned.
 
         Returns
         -------
@@ -122,7 +148,8 @@ class PBVSEKFPolicy(PBVSPolicy):
         if started.any():
             actions[started] = self.law.act_from_origin(mean[started])
         actions = np.clip(actions, -1.0, 1.0)
-        mean, cov, velocity = self._predict(mean, cov, velocity, actions, started)
+        moved = actions if executed is None else executed_actions(executed, b)
+        mean, cov, velocity = self._predict(mean, cov, velocity, moved, started)
         out = actions.astype(np.float32)
         return (out if batched else out[0]), Filters(mean, cov, velocity, started)
 

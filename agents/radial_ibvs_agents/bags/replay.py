@@ -25,6 +25,7 @@ record and chunk bounded (:data:`MAX_RECORD_BYTES`), the images' size bounded
 from __future__ import annotations
 
 import csv
+import inspect
 import io
 import json
 import math
@@ -39,6 +40,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from radial_ibvs_agents.bags.labels import read_goal_image, read_labels
 from radial_ibvs_agents.bags.messages import TOPICS, Messages
 from radial_ibvs_agents.bags.record import twist_of
 
@@ -216,6 +218,22 @@ def _landmarks_at(reader: _Reader, log_ns: int) -> NDArray[np.float64]:
     return found
 
 
+def _executed(reader: _Reader, topic: str, frames_ns: list[int]) -> NDArray[np.float64]:
+    """Return the command in effect at each frame: the last ``topic`` message, ``(K, 2)``."""
+    stamps, twists = [], []
+    for t, twist in reader.messages(topic):
+        stamps.append(t)
+        twists.append((float(twist.linear.x), float(twist.angular.z)))
+    order = np.argsort(np.asarray(stamps, dtype=np.int64), kind="stable")
+    times = np.asarray(stamps, dtype=np.int64)[order]
+    values = np.asarray(twists, dtype=np.float64).reshape(-1, 2)[order]
+    at = np.searchsorted(times, np.asarray(frames_ns, dtype=np.int64), side="right") - 1
+    commands = np.where((at >= 0)[:, None], values[np.maximum(at, 0)], 0.0)
+    if not np.isfinite(commands).all():
+        raise BagError(f"{reader.path}: {topic} holds a command that is not finite")
+    return commands
+
+
 def replay_bag(
     bag: Path | str,
     policy_name: str,
@@ -229,6 +247,11 @@ def replay_bag(
     landmarks: NDArray[np.float64] | None = None,
     start: NDArray[np.float64] | None = None,
     goal: NDArray[np.float64] | None = None,
+    goal_image: Path | str | None = None,
+    goal_at: float | None = None,
+    labels: Path | str | None = None,
+    motion: str = "policy",
+    command_topic: str = "/cmd_vel",
     trust_model: bool = False,
     progress: bool = True,
 ) -> Replay:
@@ -251,6 +274,20 @@ def replay_bag(
     landmarks, start, goal
         The map ``(N, 3)`` (metres), the first frame's pose and the goal image's pose
         ``(x, y, yaw)``; default: the bag's ``/landmarks``, ``/odom`` and ``/tf``.
+    goal_image, goal_at
+        The goal image from a file (a grey PNG or a ``.npy``), or the frame of
+        ``image_topic`` nearest ``goal_at`` seconds after its first; then every frame of
+        ``image_topic`` is replayed. Default: ``goal_image_topic``.
+    labels
+        A labels file (:mod:`~radial_ibvs_agents.bags.labels`): the landmarks' pixels in the
+        goal image and the first frame, and the goal depths, instead of a map and poses.
+    motion
+        What a policy that predicts the robot's motion (``pbvs-ekf``, ``ekf-planner``)
+        predicts it from: ``"policy"``, its own commands; ``"recorded"``, the command the
+        robot executed, the bag's last ``command_topic`` message at each frame (a robot
+        driven by something else).
+    command_topic
+        The executed commands (``geometry_msgs/Twist``), for ``motion="recorded"``.
     trust_model
         Allow a pickled ``model.zip``.
     progress
@@ -279,31 +316,56 @@ def replay_bag(
     from radial_ibvs_gym.vision.pipeline import DetectedPoints
 
     bag, out = Path(bag), Path(out)
+    if motion not in ("policy", "recorded"):
+        raise ValueError(f"motion must be 'policy' or 'recorded', got {motion!r}")
     if out.exists():
         raise ValueError(f"--out {str(out)!r} exists: the commands are written into a new folder")
     policy = make_policy(policy_name, trust_pickle=trust_model)
+    if motion == "recorded" and "executed" not in inspect.signature(policy.predict).parameters:
+        raise ValueError(
+            f"motion='recorded' feeds the executed commands to a policy that predicts the "
+            f"robot's motion (pbvs-ekf, ekf-planner); {policy_name!r} does not"
+        )
+    if goal_image is not None and goal_at is not None:
+        raise ValueError("give the goal image as a file or as a time, not both")
+    labelled = read_labels(labels) if labels is not None else None
     reader = _Reader(_mcap_path(bag))
     try:
         frames = _frames(reader, image_topic)
-        goals = _frames(reader, goal_image_topic)
-        if not 0 <= episode < len(goals):
-            raise BagError(f"{reader.path}: episode {episode}, but {goal_image_topic} holds "
-                           f"{len(goals)} goal images")  # fmt: skip
-        goal_frame = goals[episode]
-        end = goals[episode + 1].log_ns if episode + 1 < len(goals) else math.inf
-        frames = [f for f in frames if goal_frame.log_ns <= f.log_ns < end]
         if not frames:
-            raise BagError(f"{reader.path}: no {image_topic} frame after goal image {episode}")
+            raise BagError(f"{reader.path}: {image_topic} holds no frame")
+        if goal_image is not None:  # a file: every frame of the topic is replayed
+            goal_frame = _Frame(-1, -1, read_goal_image(goal_image, MAX_FRAME_PIXELS))
+        elif goal_at is not None:  # the frame nearest that time, seconds after the first
+            wanted = frames[0].stamp_ns + round(goal_at * 1e9)
+            goal_frame = min(frames, key=lambda f: abs(f.stamp_ns - wanted))
+        else:
+            goals = _frames(reader, goal_image_topic)
+            if not 0 <= episode < len(goals):
+                raise BagError(f"{reader.path}: episode {episode}, but {goal_image_topic} "
+                               f"holds {len(goals)} goal images")  # fmt: skip
+            goal_frame = goals[episode]
+            end = goals[episode + 1].log_ns if episode + 1 < len(goals) else math.inf
+            frames = [f for f in frames if goal_frame.log_ns <= f.log_ns < end]
+            if not frames:
+                raise BagError(f"{reader.path}: no {image_topic} frame after goal image {episode}")
         size = frames[0].image.shape[0]
         if any(f.image.shape != (size, size) for f in (*frames, goal_frame)):
-            raise BagError(f"{reader.path}: the frames must be square and of one size")
+            raise BagError(f"{reader.path}: the frames and the goal image must be square and "
+                           f"of one size")  # fmt: skip
         first = frames[0]
-        if landmarks is None:
-            landmarks = _landmarks_at(reader, first.log_ns)
-        if start is None:
-            start = _pose_at(reader, first.log_ns, "robot")
-        if goal is None:
-            goal = _pose_at(reader, goal_frame.log_ns, "goal")
+        if labelled is None:  # labels from the map and the two images' poses
+            if landmarks is None:
+                landmarks = _landmarks_at(reader, first.log_ns)
+            if start is None:
+                start = _pose_at(reader, first.log_ns, "robot")
+            if goal is None:
+                if goal_frame.log_ns < 0:
+                    raise ValueError("a goal image from a file needs its pose (goal) or labels")
+                goal = _pose_at(reader, goal_frame.log_ns, "goal")
+        executed = None
+        if motion == "recorded":
+            executed = _executed(reader, command_topic, [f.log_ns for f in frames])
     finally:
         reader.close()
     kwargs = env_kwargs_for(policy, scenario, env_kwargs)
@@ -320,20 +382,30 @@ def replay_bag(
         config.scenario.camera, config.scenario.goal_camera, height, size,
         beacon_radius=config.beacon_radius,
     )  # fmt: skip
-    landmarks = np.asarray(landmarks, dtype=np.float64).reshape(-1, 3)
+    if labelled is not None:
+        goal_labels, first_labels = labelled.goal, labelled.first
+        goal_depths = labelled.goal_depths
+        if config.goal_depths and goal_depths is None:
+            raise ValueError(f"{labels}: {policy_name!r} needs the goal depths (goal_depths)")
+    else:
+        assert start is not None and goal is not None  # read from the bag above
+        landmarks = np.asarray(landmarks, dtype=np.float64).reshape(-1, 3)
+        goal_labels = detector.predicted(goal, "goal", landmarks)
+        first_labels = detector.predicted(start, "current", landmarks)
+        p = world_to_camera(landmarks, goal, height, validate=False)
+        goal_depths = scene_config.depth_scale * np.hypot(p[:, 0], p[:, 1])
     goal_points, goal_visible = detector.start(
-        goal_frame.image, detector.predicted(goal, "goal", landmarks),
-        first.image, detector.predicted(start, "current", landmarks),
-    )  # fmt: skip
-    p = world_to_camera(landmarks, goal, height, validate=False)
-    goal_depths = scene_config.depth_scale * np.hypot(p[:, 0], p[:, 1])
+        goal_frame.image, goal_labels, first.image, first_labels
+    )
+    n = len(goal_labels)
     messages = Messages()
     period = config.control_dt
+    limits = np.array([config.robot.max_linear_speed, config.robot.max_angular_speed])
     result = Replay(
         stamps_ns=np.array([f.stamp_ns for f in frames], dtype=np.int64),
         commands=np.zeros((len(frames), 2)),
-        points=np.zeros((len(frames), len(landmarks), 2)),
-        visible=np.zeros((len(frames), len(landmarks)), dtype=bool),
+        points=np.zeros((len(frames), n, 2)),
+        visible=np.zeros((len(frames), n), dtype=bool),
     )
     out.parent.mkdir(parents=True, exist_ok=True)
     staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
@@ -372,7 +444,12 @@ def replay_bag(
                     goal_depths=goal_depths if config.goal_depths else None,
                     slots=config.slots,
                 )  # fmt: skip
-                action, state = policy.predict(obs, state, episode_start, deterministic=True)
+                extra = {}
+                if executed is not None:
+                    extra["executed"] = executed[k] / limits
+                action, state = policy.predict(
+                    obs, state, episode_start, deterministic=True, **extra
+                )
                 episode_start = np.zeros(1, dtype=bool)
                 v, omega = twist_of(config, action)
                 result.commands[k] = (v, omega)

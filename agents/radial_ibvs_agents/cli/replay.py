@@ -56,6 +56,30 @@ def add_parser(sub: Any) -> None:
     parser.add_argument(
         "--episode", type=int, default=0, help="which goal image of the bag (default: %(default)s)"
     )
+    goal = parser.add_mutually_exclusive_group()
+    goal.add_argument(
+        "--goal-image", type=Path, help="the goal image: a grey PNG or a .npy (H, W) uint8 file"
+    )
+    goal.add_argument(
+        "--goal-at",
+        type=float,
+        metavar="SECONDS",
+        help="the goal image: the frame nearest this time after the image topic's first",
+    )
+    parser.add_argument(
+        "--labels",
+        type=Path,
+        help="YAML: the landmarks' pixels in the goal image and first frame, and the goal "
+        "depths (instead of a map and poses; docs: On your robot)",
+    )
+    parser.add_argument(
+        "--motion",
+        choices=("policy", "recorded"),
+        default="policy",
+        help="what pbvs-ekf and ekf-planner predict the motion from: their own commands, or "
+        "the commands the robot executed (--command-topic) (default: %(default)s)",
+    )
+    parser.add_argument("--command-topic", default="/cmd_vel", help="default: %(default)s")
     parser.add_argument(
         "--start", type=_pose, help="the first frame's pose X,Y,YAW (default: /odom)"
     )
@@ -93,6 +117,11 @@ def run(args: argparse.Namespace) -> int:
         episode=args.episode,
         start=args.start,
         goal=args.goal,
+        goal_image=args.goal_image,
+        goal_at=args.goal_at,
+        labels=args.labels,
+        motion=args.motion,
+        command_topic=args.command_topic,
         trust_model=args.trust_model,
         progress=not args.no_progress,
     )

@@ -9,6 +9,7 @@ from typing import Any
 
 import numpy as np
 import pytest
+from numpy.typing import NDArray
 
 pytest.importorskip("rosbags", reason="the [ros] extra")
 mcap_reader = pytest.importorskip("mcap.reader", reason="the [ros] extra")
@@ -185,3 +186,135 @@ def test_the_command_line(
         main(["replay", str(recorded[0]), "--policy", POLICY, "--out", str(tmp_path / "x"),
               "--start", "1,2"])  # fmt: skip
     assert "expected X,Y,YAW" in capsys.readouterr().err
+
+
+def _commands(bag: Path) -> NDArray[np.float64]:
+    return np.array([[m.linear.x, m.angular.z] for _, m in _read(bag, "/cmd_vel")])
+
+
+def test_the_filter_predicts_from_the_recorded_commands_when_asked(
+    recorded: Any, tmp_path: Path
+) -> None:
+    bag, _ = recorded
+    own = replay_bag(bag, POLICY, tmp_path / "own", env_kwargs=DETECTED, progress=False)
+    executed = replay_bag(
+        bag, POLICY, tmp_path / "rec", env_kwargs=DETECTED, motion="recorded", progress=False
+    )
+    # it executed its own commands, as recorded: the float32 actions times the speed limits
+    # (the filter's own are float64), so equal to their rounding
+    np.testing.assert_allclose(executed.commands, own.commands, rtol=0, atol=1e-6)
+    # a robot that stood still whatever it was told: the filter predicts no motion
+    still = tmp_path / "still"
+    _zero_commands(bag, still)
+    moved = replay_bag(
+        still, POLICY, tmp_path / "st", env_kwargs=DETECTED, motion="recorded", progress=False
+    )
+    np.testing.assert_array_equal(moved.commands[:1], own.commands[:1])  # nothing predicted yet
+    assert not np.array_equal(moved.commands, own.commands)
+    with pytest.raises(ValueError, match="does not"):
+        replay_bag(bag, "ibvs", tmp_path / "i", motion="recorded", progress=False)
+
+
+def _zero_commands(src: Path, dst: Path) -> None:
+    messages = Messages()
+    with Reader(src) as reader, Writer(dst, version=9, storage_plugin=StoragePlugin.MCAP) as out:
+        store = messages.store
+        connections = {
+            c.id: out.add_connection(c.topic, c.msgtype, typestore=store)
+            for c in reader.connections
+        }
+        for connection, log_ns, raw in reader.messages():
+            data = (
+                messages.serialize(messages.twist(0.0, 0.0))
+                if connection.topic == "/cmd_vel"
+                else raw
+            )
+            out.write(connections[connection.id], log_ns, data)
+
+
+def test_labels_goal_depths_and_a_goal_image_file_stand_in_for_the_map(
+    recorded: Any, tmp_path: Path
+) -> None:
+    # what the map gives, written as a robot's owner would: the same commands
+    bag, _ = recorded
+    by_map = replay_bag(bag, POLICY, tmp_path / "map", env_kwargs=DETECTED, progress=False)
+    goal_image = _read(bag, "/camera/goal_image")[0][1]
+    pixels = np.frombuffer(bytes(goal_image.data), np.uint8).reshape(128, 128)
+    np.save(tmp_path / "goal.npy", pixels)
+    from PIL import Image
+
+    Image.fromarray(pixels).save(tmp_path / "goal.png")  # a 2-D uint8 array: mode L
+    from radial_ibvs_agents import make_policy
+    from radial_ibvs_agents.rollouts import make_env
+
+    env = make_env(make_policy(POLICY), "paper-lab", DETECTED)
+    env.reset(seed=1)  # the recorded episode 0
+    setup = env.unwrapped.episode_setup
+    detector = env.unwrapped._detector
+    ep = setup.episode
+
+    def listed(xy: NDArray[np.float64]) -> list[Any]:
+        return [None if np.isnan(p).any() else [float(p[0]), float(p[1])] for p in xy]
+
+    import yaml
+
+    labels = {
+        "goal": listed(detector.predicted(ep.goal, "goal")),
+        "first": listed(detector.predicted(ep.start, "current")),
+        "goal_depths": setup.goal_depths.tolist(),
+    }
+    (tmp_path / "labels.yaml").write_text(yaml.safe_dump(labels))
+    labelled = replay_bag(
+        bag, POLICY, tmp_path / "lab", env_kwargs=DETECTED, labels=tmp_path / "labels.yaml",
+        progress=False,
+    )  # fmt: skip
+    np.testing.assert_array_equal(labelled.commands, by_map.commands)
+    n = len(by_map.commands)
+    for name in ("goal.npy", "goal.png"):  # every frame of the topic: episode 0 comes first
+        from_file = replay_bag(
+            bag, POLICY, tmp_path / f"out-{name}", env_kwargs=DETECTED, goal_image=tmp_path / name,
+            labels=tmp_path / "labels.yaml", progress=False,
+        )  # fmt: skip
+        np.testing.assert_array_equal(from_file.commands[:n], by_map.commands)
+    at = replay_bag(
+        bag, POLICY, tmp_path / "at", env_kwargs=DETECTED, goal_at=0.0,
+        labels=tmp_path / "labels.yaml", progress=False,
+    )  # fmt: skip
+    assert len(at.commands) == len(_read(bag, "/camera/image"))
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("goal: [[1, 2]]\n", r"missing keys \['first'\]"),
+        ("goal: [[1, 2]]\nfirst: [[1, 2]]\nextra: 1\n", r"unknown keys \['extra'\]"),
+        ("goal: [[1, 2]]\nfirst: [[1, .nan]]\n", r"first\[0\] must be \[column, row\]"),
+        ("goal: [[1, 2]]\nfirst: [[1, 2], [3, 4]]\n", "goal has 1 landmarks, first 2"),
+        ("goal: [[1, 2]]\nfirst: [[1, 2]]\ngoal_depths: [-1]\n", "goal_depths must be 1"),
+        ("goal: 3\nfirst: [[1, 2]]\n", "goal must be a list"),
+    ],
+)
+def test_a_bad_labels_file_is_refused_by_key(tmp_path: Path, text: str, message: str) -> None:
+    from radial_ibvs_agents.bags.labels import read_labels
+
+    path = tmp_path / "labels.yaml"
+    path.write_text(text)
+    with pytest.raises(ValueError, match=message):
+        read_labels(path)
+
+
+def test_a_bad_goal_image_file_is_refused(tmp_path: Path) -> None:
+    from radial_ibvs_agents.bags.labels import read_goal_image
+
+    np.save(tmp_path / "rgb.npy", np.zeros((4, 4, 3), np.uint8))
+    with pytest.raises(ValueError, match=r"a \(H, W\) uint8 array"):
+        read_goal_image(tmp_path / "rgb.npy", 1000)
+    np.save(tmp_path / "big.npy", np.zeros((40, 40), np.uint8))
+    with pytest.raises(ValueError, match="at most 1000 pixels"):
+        read_goal_image(tmp_path / "big.npy", 1000)
+    np.save(tmp_path / "objects.npy", np.array([{"a": 1}], dtype=object), allow_pickle=True)
+    with pytest.raises(ValueError, match="uint8"):  # refused from its header: never unpickled
+        read_goal_image(tmp_path / "objects.npy", 1000)
+    (tmp_path / "goal.jpg").write_bytes(b"x")
+    with pytest.raises(ValueError, match=r"a \.png or a \.npy"):
+        read_goal_image(tmp_path / "goal.jpg", 1000)
