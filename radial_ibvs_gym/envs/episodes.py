@@ -73,6 +73,9 @@ class EpisodeSetup:
         scenario's most. ``None``: the episode's own.
     present
         ``(N,)`` which of ``landmarks`` the episode has (``None``: all).
+    goal_frames
+        The noisy frames the goal image averaged (``goal_image_frames > 1``): their points
+        ``(F, N, 2)`` (zeros where hidden) and visibility ``(F, N)``; else ``None``.
     """
 
     episode: Episode
@@ -90,6 +93,7 @@ class EpisodeSetup:
     image_goal: np.ndarray | None = None
     landmarks: np.ndarray | None = None
     present: np.ndarray | None = None
+    goal_frames: tuple[np.ndarray, np.ndarray] | None = None
 
     @property
     def points_w(self) -> np.ndarray:
@@ -347,6 +351,9 @@ class EpisodeSource:
             ``"current"`` (the scenario's camera) or ``"goal"`` (its goal camera).
         rng
             The env's generator (pixel noise); ``None``: the noise-free image.
+
+        The goal image through a camera with imperfections averages ``goal_image_frames``
+        noisy frames; they are kept in ``setup.goal_frames``.
         """
         bounds = setup.radius_bounds[which]
         if bounds is not None:
@@ -367,6 +374,7 @@ class EpisodeSource:
         shots, seen_by = camera_images(
             [camera] * frames, np.broadcast_to(p_cam, (frames, *p_cam.shape)), [rng] * frames
         )
+        setup.goal_frames = (shots, seen_by)
         seen = np.sum(seen_by, axis=0)
         total = np.sum(shots, axis=0)
         visible = seen * 2 >= frames

@@ -35,6 +35,10 @@ TOPICS: dict[str, tuple[str, str]] = {
         "std_msgs/msg/Float64MultiArray",
         "the goal image's normalised points, (N, 2), NaN where not seen; at each start",
     ),
+    "/goal_image_frames": (
+        "std_msgs/msg/Float64MultiArray",
+        "each noisy frame the goal image averaged (goal_image_frames > 1), at each start",
+    ),
     "/cmd_vel": (
         "geometry_msgs/msg/Twist",
         "the command (m/s, rad/s), stamped when issued, held for one control period",

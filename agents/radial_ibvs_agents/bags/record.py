@@ -190,6 +190,9 @@ def record_episodes(
                     bag.write("/camera/goal_image", start_ns, goal_image)
                 goal_points = messages.points(setup.goal_points, setup.goal_visible)
                 bag.write("/goal_image_points", start_ns, goal_points)
+                if setup.goal_frames is not None:  # the goal image averaged noisy frames
+                    for shot, seen in zip(*setup.goal_frames, strict=True):
+                        bag.write("/goal_image_frames", start_ns, messages.points(shot, seen))
                 poses = [np.asarray(info["robot_pose"], dtype=np.float64)]
                 state, episode_start = None, np.ones(1, dtype=bool)
                 step, terminated, truncated = 0, False, False

@@ -50,7 +50,7 @@ def recorded(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, list[Any]]
 def test_every_topic_has_its_standard_type_and_a_message_per_step(recorded: Any) -> None:
     out, episodes = recorded
     topics = _read(out)
-    assert set(topics) == set(TOPICS)
+    assert set(topics) == set(TOPICS) - {"/goal_image_frames"}  # one goal image, not averaged
     for topic, messages in topics.items():
         assert {schema for _, schema, _ in messages} == {TOPICS[topic][0]}, topic
     frames = sum(e.steps + 1 for e in episodes)
@@ -139,7 +139,11 @@ def test_without_rendering_the_bag_has_no_images(tmp_path: Path) -> None:
     out = tmp_path / "ideal"
     record_episodes("pbvs", out, "paper-sim", max_steps=3, progress=False)
     topics = _read(out)
-    assert set(topics) == set(TOPICS) - {"/camera/image", "/camera/goal_image"}
+    assert set(topics) == set(TOPICS) - {
+        "/camera/image",
+        "/camera/goal_image",
+        "/goal_image_frames",
+    }
 
 
 def test_bad_input_is_refused_by_name(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -172,3 +176,26 @@ def test_the_docs_table_lists_every_topic_with_its_type() -> None:
     page = (Path(__file__).parents[3] / "docs" / "on-your-robot.md").read_text()
     for topic, (msgtype, _) in TOPICS.items():
         assert f"| `{topic}` | `{msgtype}` |" in page, topic
+
+
+def test_each_frame_an_averaged_goal_image_took_is_recorded(tmp_path: Path) -> None:
+    camera = {"mirror": "A", "non_central_offset": 0.01, "imperfections": {"pixel_noise_std": 1.0}}
+    out = tmp_path / "averaged"
+    record_episodes(
+        "pbvs", out, "paper-sim", episodes=2, max_steps=2, progress=False,
+        env_kwargs={"camera": camera, "goal_image_frames": 3},
+    )  # fmt: skip
+    topics = _read(out)
+    frames = [np.asarray(m.data).reshape(-1, 2) for _, _, m in topics["/goal_image_frames"]]
+    goals = [np.asarray(m.data).reshape(-1, 2) for _, _, m in topics["/goal_image_points"]]
+    assert len(frames) == 6 and len(goals) == 2
+    stamps = [t for t, _, _ in topics["/goal_image_frames"]]
+    assert stamps[:3] == [0, 0, 0] and len(set(stamps[3:])) == 1
+    for k, goal in enumerate(goals):  # the goal image: each landmark's mean direction
+        shots = np.stack(frames[3 * k : 3 * k + 3])
+        seen = ~np.isnan(shots[..., 0])
+        total = np.where(seen[..., None], shots, 0.0).sum(axis=0)
+        visible = seen.sum(axis=0) * 2 >= 3
+        np.testing.assert_array_equal(~np.isnan(goal[:, 0]), visible)
+        mean = total[visible] / np.linalg.norm(total[visible], axis=-1, keepdims=True)
+        np.testing.assert_allclose(goal[visible], mean, rtol=0, atol=1e-12)
