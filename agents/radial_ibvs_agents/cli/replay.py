@@ -79,6 +79,12 @@ def add_parser(sub: Any) -> None:
         help="what pbvs-ekf and ekf-planner predict the motion from: their own commands, or "
         "the commands the robot executed (--command-topic) (default: %(default)s)",
     )
+    parser.add_argument(
+        "--camera",
+        type=Path,
+        help="YAML: the scenario's camera section (mirror, non_central_offset, imperfections: "
+        "the principal point's offset and the focal ratio's error against the nominal ones)",
+    )
     parser.add_argument("--command-topic", default="/cmd_vel", help="default: %(default)s")
     parser.add_argument(
         "--start", type=_pose, help="the first frame's pose X,Y,YAW (default: /odom)"
@@ -106,12 +112,19 @@ def run(args: argparse.Namespace) -> int:
     from radial_ibvs_agents.bags.replay import replay_bag
     from radial_ibvs_agents.experiments.evaluate import parse_env_kwargs
 
+    env_kwargs = parse_env_kwargs(args.env_kwarg)
+    if args.camera is not None:
+        from radial_ibvs_gym.config.yaml_files import read_yaml
+
+        if "camera" in env_kwargs:
+            raise ValueError("give the camera with --camera or --env-kwarg camera=..., not both")
+        env_kwargs["camera"] = read_yaml(args.camera)
     result = replay_bag(
         args.bag,
         args.policy,
         args.out,
         args.scenario,
-        env_kwargs=parse_env_kwargs(args.env_kwarg),
+        env_kwargs=env_kwargs,
         image_topic=args.image_topic,
         goal_image_topic=args.goal_image_topic,
         episode=args.episode,

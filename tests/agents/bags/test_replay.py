@@ -318,3 +318,17 @@ def test_a_bad_goal_image_file_is_refused(tmp_path: Path) -> None:
     (tmp_path / "goal.jpg").write_bytes(b"x")
     with pytest.raises(ValueError, match=r"a \.png or a \.npy"):
         read_goal_image(tmp_path / "goal.jpg", 1000)
+
+
+def test_the_camera_comes_from_a_file_and_a_bad_key_is_named(
+    recorded: Any, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    (tmp_path / "camera.yaml").write_text("mirror: A\nnon_central_offset: 0.01\n")  # paper-lab's
+    args = ["replay", str(recorded[0]), "--policy", POLICY, "--no-progress"]
+    args += ["--env-kwarg", "image_size=128", "--camera", str(tmp_path / "camera.yaml")]
+    assert main([*args, "--out", str(tmp_path / "a")]) == 0
+    same = replay_bag(recorded[0], POLICY, tmp_path / "b", env_kwargs=DETECTED, progress=False)
+    assert _commands(tmp_path / "a").tolist() == same.commands.tolist()
+    (tmp_path / "camera.yaml").write_text("mirror: A\nfocal: 3\n")
+    assert main([*args, "--out", str(tmp_path / "c")]) == 2
+    assert "focal" in capsys.readouterr().err
