@@ -54,9 +54,9 @@ CAMERA = {
 def _one_by_one(self: Any, indices: Any, p_cam: Any, rngs: Any) -> Any:
     """``CameraRows.measure`` camera by camera: one ``camera_image`` call per robot."""
     rows = []
-    for i, p, rng in zip(indices.tolist(), p_cam, rngs, strict=True):
-        self.noise.sync(i, rng)  # its generator as one draw a step leaves it
-        rows.append(logic.camera_image(self.cameras[i], p, rng))
+    for i, p in zip(indices.tolist(), p_cam, strict=True):
+        self.noise.sync(i, rngs[i])  # its generator as one draw a step leaves it
+        rows.append(logic.camera_image(self.cameras[i], p, rngs[i]))
     return np.stack([r[0] for r in rows]), np.stack([r[1] for r in rows])
 
 

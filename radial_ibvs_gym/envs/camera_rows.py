@@ -87,7 +87,7 @@ class CameraRows:
         p_cam
             ``(k, L, 3)`` their landmarks, each in its camera's frame, metres.
         rngs
-            The ``k`` envs' generators (the pixel noise).
+            Every env's generator, by env (the pixel noise of ``rngs[i]`` for env ``i``).
 
         Returns
         -------
@@ -95,19 +95,21 @@ class CameraRows:
             ``(k, L, 2)`` (zeros where hidden) and ``(k, L)``, as
             :func:`~radial_ibvs_gym.camera.measurement.camera_images` gives them.
         """
-        rows = indices.tolist()
         if not self.shared:  # camera by camera where they differ: the generators read directly
-            for i, rng in zip(rows, rngs, strict=True):
-                self.noise.sync(i, rng)
+            rows = indices.tolist()
+            for i in rows:
+                self.noise.sync(i, rngs[i])
             cameras = [c for i in rows if (c := self.cameras[i]) is not None]
-            return measurement.camera_images(cameras, p_cam, rngs)
-        first = self.cameras[rows[0]] if rows else None
+            return measurement.camera_images(cameras, p_cam, [rngs[i] for i in rows])
+        first = self.cameras[int(indices[0])] if len(indices) else None
         if first is None:
             return np.zeros((*p_cam.shape[:2], 2)), np.zeros(p_cam.shape[:2], dtype=bool)
         stds = self.stds[indices]
         normals = None
-        if stds.any():
-            noisy = np.flatnonzero(stds > 0.0)
-            normals = np.zeros((len(rows), p_cam.shape[1], 2))
-            normals[noisy] = self.noise.draw(indices[noisy], [rngs[j] for j in noisy.tolist()])
+        noisy = stds > 0.0
+        if noisy.all():
+            normals = self.noise.draw(indices, rngs)
+        elif noisy.any():
+            normals = np.zeros((len(indices), p_cam.shape[1], 2))
+            normals[noisy] = self.noise.draw(indices[noisy], rngs)
         return measurement.camera_images_shared(first, self.rows[indices], p_cam, stds, normals)

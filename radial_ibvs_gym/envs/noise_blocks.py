@@ -67,23 +67,25 @@ class NoiseBlocks:
         indices
             ``(k,)`` the envs.
         rngs
-            ``k`` generators, one per env of ``indices`` (each env's own, every call).
+            Every env's generator, by env (``rngs[i]`` is env ``i``'s; only those whose block
+            is used up are read).
 
         Returns
         -------
         numpy.ndarray
             ``(k, L, 2)``: row ``j`` is what ``rngs[j].standard_normal((L, 2))`` would give.
         """
-        empty = np.flatnonzero(self._used[indices] >= self.block)
-        for j in empty.tolist():  # a new block: one call for `block` steps
-            i, rng = int(indices[j]), rngs[j]
+        used = self._used[indices]
+        for i in indices[used >= self.block].tolist():  # a new block: one call, `block` steps
+            rng = rngs[i]
             if rng is None:
                 raise ValueError(f"env {i} has no generator: reset it first")
             self._saved[i] = rng.bit_generator.state
             rng.standard_normal(out=self._draws[i])  # (block, L, 2), in place
             self._used[i] = 0
-        rows = self._draws[indices, self._used[indices]]
-        self._used[indices] += 1
+        used = self._used[indices]
+        rows = self._draws[indices, used]
+        self._used[indices] = used + 1
         return rows
 
     def sync(self, i: int, rng: np.random.Generator | None) -> None:

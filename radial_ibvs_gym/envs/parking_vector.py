@@ -382,12 +382,11 @@ class ParkingVectorEnv(VectorEnv):
             self._points[indices], self._visible[indices] = pts, vis
         elif len(indices):  # a camera with imperfections: exact projection and noise, batched
             assert self._cameras is not None
-            rngs = [self._rngs[i] for i in indices.tolist()]
             heights = batch.camera_heights[indices, None]  # (k, 1): each robot's height
             p_cam = world_to_camera(
                 batch.landmarks_w[indices], poses[indices], heights, validate=False
             )
-            points, visible = self._cameras.measure(indices, p_cam, rngs)
+            points, visible = self._cameras.measure(indices, p_cam, self._rngs)
             present = batch.present[indices]
             if not present.all():  # a drawn landmark count: the absent are never visible
                 visible &= present

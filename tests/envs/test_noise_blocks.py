@@ -31,7 +31,7 @@ def test_blocks_give_the_draws_and_leave_the_generator_as_one_draw_a_step(
     env = np.array([0])
     for length in steps:
         for _ in range(length):
-            got = blocks.draw(env, [ahead])[0]
+            got = blocks.draw(env, [ahead])[0]  # env 0's generator
             np.testing.assert_array_equal(got, stepwise.standard_normal((landmarks, 2)))
         blocks.sync(0, ahead)
         # the reset's own draws: the same stream on both sides
@@ -46,7 +46,7 @@ def test_envs_draw_from_their_own_generators_in_any_subset() -> None:
     order = [[0, 1, 2], [2], [0, 2], [1], [0, 1, 2], [0, 1, 2], [1, 2]]
     for subset in order:
         idx = np.array(subset)
-        got = blocks.draw(idx, [rngs[i] for i in subset])
+        got = blocks.draw(idx, rngs)
         want = np.stack([twins[i].standard_normal((4, 2)) for i in subset])
         np.testing.assert_array_equal(got, want)
     for i in range(3):
