@@ -2,7 +2,9 @@
 
 Usage: ``python benchmarks/bench_envs.py [--quick]`` (or ``make bench``);
 ``python benchmarks/bench_envs.py --rounds 15`` for the scalar envs against CartPole-v1 alone;
-``python benchmarks/bench_envs.py --parts`` for where one scalar step's time goes.
+``python benchmarks/bench_envs.py --parts`` for where one scalar step's time goes;
+``python benchmarks/bench_envs.py --vector-rounds 5`` for the pymunk vector env against the
+scalar pymunk env.
 
 1. The scalar envs: each registered id and physics backend through ``gym.make`` with random
    actions (resetting at episode end), with Gymnasium's CartPole-v1 and Pendulum-v1 as
@@ -19,6 +21,12 @@ Usage: ``python benchmarks/bench_envs.py [--quick]`` (or ``make bench``);
    (pymunk, paper-sim), each called alone many times at one mid-episode state (``timeit``, the
    best of 7 repeats: the cost without the machine's noise). The parts are the env's own
    private steps, so this mode follows the env's code, not its API.
+5. With ``--vector-rounds K``, only the native vector env with pymunk at N = 256 (random
+   actions) against the scalar pymunk env through ``gym.make``, default arguments, in K
+   interleaved rounds (scalar, vector, scalar), the median of the rounds' ratios; then where a
+   vector step's time goes: Chipmunk's ``space.step`` (ten sub-steps), the rest of the
+   fleet's step (the bodies read and written in bulk around each sub-step), and the env's
+   own work (observation, rules, resets).
 """
 
 from __future__ import annotations
@@ -86,6 +94,62 @@ def interleaved_ratios(rounds: int, seconds: float = 1.0) -> dict[str, list[floa
     return ratios
 
 
+def vector_rounds(rounds: int, n: int = 256, seconds: float = 1.0) -> list[float]:
+    """The pymunk vector env's steps/s over the scalar pymunk env's, one ratio per round."""
+    scalar = gym.make("RadialIBVS/Parking-v0")
+    vector = gym.make_vec("RadialIBVS/Parking-v0", num_envs=n)
+    ratios = []
+    for _ in range(rounds):
+        before = steps_per_second(scalar, seconds / 2)
+        ours = vector_steps_per_second(vector, seconds)
+        after = steps_per_second(scalar, seconds / 2)
+        ratios.append(ours / (0.5 * (before + after)))
+    return ratios
+
+
+def vector_step_parts(n: int = 256, steps: int = 160) -> dict[str, float]:
+    """Milliseconds per vector step (pymunk, N robots): Chipmunk, the fleet, the env."""
+    import pymunk
+
+    from radial_ibvs_gym.physics.fleet import PymunkFleet
+
+    spent = {"chipmunk": 0.0, "fleet": 0.0}
+    space_step, fleet_step = pymunk.Space.step, PymunkFleet.step
+
+    def timed_space(self: pymunk.Space, dt: float) -> None:
+        start = time.perf_counter()
+        space_step(self, dt)
+        spent["chipmunk"] += time.perf_counter() - start
+
+    def timed_fleet(self: PymunkFleet, *args: object) -> object:
+        start = time.perf_counter()
+        out = fleet_step(self, *args)  # type: ignore[arg-type]
+        spent["fleet"] += time.perf_counter() - start
+        return out
+
+    envs = gym.make_vec("RadialIBVS/Parking-v0", num_envs=n)
+    envs.reset(seed=0)
+    rng = np.random.default_rng(0)
+    actions = rng.uniform(-1, 1, (steps, n, 2)).astype(np.float32)
+    for a in actions[:16]:
+        envs.step(a)
+    pymunk.Space.step, PymunkFleet.step = timed_space, timed_fleet  # type: ignore[method-assign]
+    try:
+        start = time.perf_counter()
+        for a in actions:
+            envs.step(a)
+        total = time.perf_counter() - start
+    finally:
+        pymunk.Space.step, PymunkFleet.step = space_step, fleet_step  # type: ignore[method-assign]
+    ms = 1e3 / steps
+    return {
+        "the whole step": total * ms,
+        "Chipmunk's space.step (10 sub-steps)": spent["chipmunk"] * ms,
+        "the fleet's step around it": (spent["fleet"] - spent["chipmunk"]) * ms,
+        "the env's own work": (total - spent["fleet"]) * ms,
+    }
+
+
 def microseconds(call: Callable[[], object], number: int = 2000) -> float:
     """Best of 7 repeats of ``number`` calls, microseconds per call."""
     return min(timeit.repeat(call, number=number, repeat=7)) / number * 1e6
@@ -148,7 +212,22 @@ def main() -> None:
     parser.add_argument(
         "--parts", action="store_true", help="only where one scalar pymunk step's time goes"
     )
+    parser.add_argument(
+        "--vector-rounds", type=int, help="only the pymunk vector env against the scalar one"
+    )
     args = parser.parse_args()
+    if args.vector_rounds is not None:
+        if args.vector_rounds < 1:
+            parser.error(f"--vector-rounds must be a positive integer, got {args.vector_rounds}")
+        print(f"# pymunk: native vector env (N = 256) / scalar env, {args.vector_rounds} rounds")
+        values = vector_rounds(args.vector_rounds)
+        q1, median, q3 = np.percentile(values, [25, 50, 75])
+        each = ", ".join(f"{v:.2f}" for v in values)
+        print(f"median {median:.2f}x (quartiles {q1:.2f}-{q3:.2f}; rounds: {each})")
+        print("\n# one vector step at N = 256, ms")
+        for name, ms in vector_step_parts().items():
+            print(f"{name:<40}{ms:>8.3f}")
+        return
     if args.parts:
         print(f"# one scalar RadialIBVS/Parking-v0 step (pymunk), {platform.machine()}")
         for name, us in step_parts():
