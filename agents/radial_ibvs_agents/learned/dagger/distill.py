@@ -124,9 +124,11 @@ def dagger(
     from stable_baselines3.common.running_mean_std import RunningMeanStd
     from tqdm.auto import tqdm
 
+    from radial_ibvs_agents.learned.files.provenance import provenance
     from radial_ibvs_agents.learned.files.saving import save_model_dir
     from radial_ibvs_agents.learned.training.sb3_vec_env import make_vec_env, spaces_env
 
+    origin = provenance(command, config.source)  # at the start: the code that trains
     torch.set_num_threads(torch_threads)
     torch.manual_seed(seed)
     out = Path(out_dir)
@@ -259,7 +261,7 @@ def dagger(
         bar.set_postfix(success=f"{success:.2f}", loss=f"{loss:.4f}")
         _write_progress(out / "progress.csv", rows)
         vecnorm = _vec_normalize(student_space, venv.action_space, rms, clip, eps)
-        meta = _metadata(config, seed, rows, command)
+        meta = _metadata(config, seed, rows, origin)
         save_model_dir(
             model, out / "rounds" / f"round_{round_index}", env_id=config.env_id,
             env_kwargs=config.env_kwargs, normalization=vecnorm, metadata=meta,
@@ -268,7 +270,7 @@ def dagger(
     best = max(rows, key=lambda r: (r["success_rate"], r["round"]))
     final = out / "rounds" / f"round_{int(best['round'])}"
     meta = json.loads((final / "metadata.json").read_text())  # algo, env_id, env_kwargs...
-    meta |= _metadata(config, seed, rows, command) | {"best_round": int(best["round"])}
+    meta |= _metadata(config, seed, rows, origin) | {"best_round": int(best["round"])}
     with replace_model_files(out) as staging:  # the best round's files, all at once
         for name in ("policy.safetensors", "policy.json", "normalization.npz"):
             (staging / name).write_bytes((final / name).read_bytes())
@@ -449,9 +451,9 @@ def _vec_normalize(
 
 
 def _metadata(
-    config: DaggerConfig, seed: int, rows: list[dict[str, float]], command: str | None
+    config: DaggerConfig, seed: int, rows: list[dict[str, float]], origin: dict[str, Any]
 ) -> dict[str, Any]:
-    from radial_ibvs_agents.learned.files.provenance import jsonable, provenance
+    from radial_ibvs_agents.learned.files.provenance import jsonable
 
     return {
         "trained_by": "dagger",
@@ -460,7 +462,7 @@ def _metadata(
         **({"history": config.history.as_dict()} if config.history else {}),
         "seed": seed,
         "total_timesteps": int(rows[-1]["env_steps"]) if rows else 0,
-        **provenance(command, config.source),
+        **origin,  # the command, config and revision as the run started
         "wall_clock_s": rows[-1]["wall_s"] if rows else 0.0,
         "learning_curve": [
             {"timesteps": r["env_steps"], "success_rate": r["success_rate"]} for r in rows

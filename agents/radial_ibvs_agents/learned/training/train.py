@@ -423,6 +423,7 @@ def train(
     if config.curriculum is not None:
         total = steps + (model.num_timesteps if resume is not None else 0)
         callbacks.append(StartReachCurriculum(config.curriculum, total))
+    origin = provenance(command, config.source)  # at the start: the code that trains
     start = time.perf_counter()
     model.learn(
         steps,
@@ -448,7 +449,7 @@ def train(
         **({"fine_tune": config.fine_tune.as_dict()} if init and config.fine_tune else {}),
         **({"extractor": config.extractor} if config.extractor and init is None else {}),
         "total_timesteps": int(model.num_timesteps),
-        **provenance(command, config.source),
+        **origin,
         "versions": versions(),
         "wall_clock_s": round(wall, 1),
         "env_steps_per_s": round(steps / wall, 1),

@@ -132,3 +132,17 @@ def test_an_exported_student_ships_as_an_sb3_ppo_model(student, tmp_path):
     theirs, _ = model.predict(obs, deterministic=True)
     np.testing.assert_array_equal(ours, theirs)
     assert isinstance(model, PPO) and load(shipped).metadata["best_round"] == meta["best_round"]
+
+
+def test_the_metadata_names_the_revision_the_run_started_from(tmp_path, monkeypatch):
+    # a run lasts long enough for the checkout to move on: the revision read at its start
+    from dagger_setup import SMALL
+
+    from radial_ibvs_agents.learned.files import provenance as origin
+
+    revisions = iter(["where-it-started"])
+    monkeypatch.setattr(origin, "git_revision", lambda: next(revisions, "a-later-commit"))
+    path = tmp_path / "config.yaml"
+    path.write_text(SMALL.replace("rounds: 2", "rounds: 1"))
+    out = dagger(load_dagger_config(path), tmp_path / "student", seed=3, progress=False)
+    assert json.loads((out / "metadata.json").read_text())["git_revision"] == "where-it-started"
