@@ -106,22 +106,25 @@ def read_goal_image(path: Path | str, max_pixels: int) -> NDArray[np.uint8]:
         raise ValueError(f"{path}: over {MAX_IMAGE_FILE_BYTES} bytes")
     suffix = path.suffix.lower()
     if suffix == ".npy":
-        with path.open("rb") as stream:
+        with path.open("rb") as stream:  # the header checked, then the array, from one open
             version = np.lib.format.read_magic(stream)
             read_header = (
                 np.lib.format.read_array_header_1_0
                 if version == (1, 0)
                 else np.lib.format.read_array_header_2_0
             )
-            shape, _, dtype = read_header(stream)
-        if dtype != np.uint8 or len(shape) != 2 or math.prod(shape) > max_pixels:
-            raise ValueError(f"{path}: a (H, W) uint8 array of at most {max_pixels} pixels, "
-                             f"got {shape} {dtype}")  # fmt: skip
-        return np.ascontiguousarray(np.load(path, allow_pickle=False))
+            shape, fortran, dtype = read_header(stream)
+            if dtype != np.uint8 or len(shape) != 2 or math.prod(shape) > max_pixels:
+                raise ValueError(f"{path}: a (H, W) uint8 array of at most {max_pixels} pixels, "
+                                 f"got {shape} {dtype}")  # fmt: skip
+            data = np.fromfile(stream, dtype=np.uint8, count=math.prod(shape))
+        if len(data) != math.prod(shape):
+            raise ValueError(f"{path}: {len(data)} bytes for a {shape} array")
+        return np.ascontiguousarray(data.reshape(shape, order="F" if fortran else "C"))
     if suffix == ".png":
         from PIL import Image
 
-        with Image.open(path) as image:
+        with Image.open(path, formats=["PNG"]) as image:  # no other decoder reads it
             if image.width * image.height > max_pixels:
                 raise ValueError(
                     f"{path}: {image.width} x {image.height} (at most {max_pixels} px)"

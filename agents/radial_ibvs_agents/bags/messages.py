@@ -45,7 +45,8 @@ TOPICS: dict[str, tuple[str, str]] = {
     ),
     "/odom": (
         "nav_msgs/msg/Odometry",
-        "the robot's true pose in the map frame and its mean velocity over the last period",
+        "the robot's true pose in the map frame and the constant (v, omega) that moved it there "
+        "over the last period",
     ),
     "/tf": ("tf2_msgs/msg/TFMessage", "map -> base_link (the robot), map -> goal"),
     "/errors": (
@@ -54,7 +55,8 @@ TOPICS: dict[str, tuple[str, str]] = {
     ),
     "/episode_info": (
         "std_msgs/msg/String",
-        "JSON: episode, seed, step, errors, reached, success, collision, lost, end",
+        "JSON: episode, seed, step, position_error_m, heading_error_deg, reached, is_success, "
+        "collision, lost, end",
     ),
     "/landmarks": (
         "geometry_msgs/msg/PoseArray",

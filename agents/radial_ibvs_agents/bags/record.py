@@ -201,12 +201,14 @@ def record_episodes(
                     pose = poses[-1]
                     if step == 0:
                         v = omega = 0.0
-                    else:
+                    else:  # the unicycle's constant (v, omega) that moves the last pose here
                         d = pose - poses[-2]
-                        heading = poses[-2][2]
-                        along = math.cos(heading) * d[0] + math.sin(heading) * d[1]
-                        v = along / config.control_dt
-                        omega = float(wrap_angle(d[2])) / config.control_dt
+                        turn = float(wrap_angle(d[2]))
+                        middle = poses[-2][2] + 0.5 * turn  # a chord along the mid heading
+                        along = math.cos(middle) * d[0] + math.sin(middle) * d[1]
+                        sinc = math.sin(0.5 * turn) / (0.5 * turn) if turn else 1.0
+                        v = along / (sinc * config.control_dt)
+                        omega = turn / config.control_dt
                     frames = base.detected_frames
                     if "current" in frames:
                         bag.write("/camera/image", t, messages.image(t, frames["current"]))

@@ -13,13 +13,16 @@ labelled from a landmark map and the poses of those two images (the bag's ``/lan
 ``/odom`` and ``/tf`` where ``radial-ibvs record`` wrote them, or the caller's), and the goal
 depths come from the same map. A policy that predicts from the robot's motion (``pbvs-ekf``)
 predicts over each interval to the next frame's stamp (its ``control_dt``), not a fixed period.
-A dropped frame (an interval over 1.5 periods) is measured as nothing seen: the tracked
-landmarks coast, as after a frame without beacons. Frames out of order, a missing topic or
-another encoding than ``mono8`` are named errors.
+A dropped frame (an interval of 1.5 periods or more) is measured as nothing seen: the tracked
+landmarks coast, as after a frame without beacons; a gap of more than :data:`MAX_DROPPED`
+frames is an error. Frames out of order, a missing topic, another message type or encoding
+than ``sensor_msgs/Image`` in ``mono8`` are named errors.
 
-The bag is data a user hands over: read with the ``mcap`` library from its index, every
-record and chunk bounded (:data:`MAX_RECORD_BYTES`), the images' size bounded
-(:data:`MAX_FRAME_PIXELS`), the frames counted (:data:`MAX_FRAMES`); nothing in it is run.
+The bag is data a user hands over, read by :class:`~radial_ibvs_agents.bags.bag_reader.BagReader`
+(every record and chunk bounded, its decompression too, the messages decoded with the trusted
+ROS 2 types); the images' size is bounded (:data:`MAX_FRAME_PIXELS`) and the frames counted
+(:data:`MAX_FRAMES`). The frames are read twice, once for their time stamps and once, one at a
+time, for the replay: a long recording is never held in memory. Nothing in a bag is run.
 """
 
 from __future__ import annotations
@@ -30,7 +33,6 @@ import io
 import json
 import math
 import shutil
-import struct
 import tempfile
 from collections.abc import Iterator, Mapping
 from dataclasses import dataclass, field
@@ -40,33 +42,31 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from radial_ibvs_agents.bags.bag_reader import BagError, BagReader, mcap_path
 from radial_ibvs_agents.bags.labels import read_goal_image, read_labels
 from radial_ibvs_agents.bags.messages import TOPICS, Messages
 from radial_ibvs_agents.bags.record import twist_of
 
 __all__ = [
+    "MAX_DROPPED",
     "MAX_FRAMES",
     "MAX_FRAME_PIXELS",
-    "MAX_RECORD_BYTES",
     "BagError",
     "Replay",
     "replay_bag",
 ]
 
-#: the largest record or chunk (uncompressed) a bag may hold, bytes
-MAX_RECORD_BYTES = 256 * 2**20
 #: the largest frame, pixels (the env's largest rendered frame is 2048 x 2048)
 MAX_FRAME_PIXELS = 2048 * 2048
-#: frames of one replay
+#: frames of one replay (each read twice, never held all at once)
 MAX_FRAMES = 100_000
 #: an interval this many periods long or more drops the frames between
 DROPPED = 1.5
+#: the most frames a gap may drop: a longer one is a break in the recording, an error
+MAX_DROPPED = 100
 #: the outputs' topics beside /cmd_vel, /image_points and /goal_image_points
 DETECTION_TOPIC = "/detection"
-
-
-class BagError(ValueError):
-    """A bag that cannot be replayed; the message names the file, topic and value."""
+IMAGE = "sensor_msgs/msg/Image"
 
 
 @dataclass
@@ -81,22 +81,14 @@ class Replay:
     dropped: int = 0
 
 
-@dataclass
+@dataclass(frozen=True)
 class _Frame:
+    """A frame of a topic: its index there, its header stamp and log time, nanoseconds."""
+
+    index: int
     stamp_ns: int
     log_ns: int
-    image: NDArray[np.uint8]
-
-
-def _mcap_path(bag: Path) -> Path:
-    if bag.is_file():
-        return bag
-    if not bag.is_dir():
-        raise BagError(f"{bag}: no such bag (a rosbag2 folder or an .mcap file)")
-    files = sorted(bag.glob("*.mcap"))
-    if len(files) != 1:
-        raise BagError(f"{bag}: a rosbag2 folder with one .mcap file, found {len(files)}")
-    return files[0]
+    shape: tuple[int, int]
 
 
 def _stamp(header: Any) -> int:
@@ -111,75 +103,20 @@ def _image(path: Path, topic: str, k: int, message: Any) -> NDArray[np.uint8]:
     height, width, step = int(message.height), int(message.width), int(message.step)
     if not (0 < height and 0 < width and height * width <= MAX_FRAME_PIXELS):
         raise BagError(f"{where}: a {height} x {width} frame (at most {MAX_FRAME_PIXELS} pixels)")
-    data = np.frombuffer(bytes(message.data), dtype=np.uint8)
+    data = np.asarray(message.data, dtype=np.uint8).reshape(-1)
     if step < width or len(data) != height * step:
         raise BagError(f"{where}: {len(data)} bytes for {height} rows of step {step}")
     return np.ascontiguousarray(data.reshape(height, step)[:, :width])
 
 
-class _Reader:
-    """An indexed MCAP file, its records bounded, its messages decoded (ROS 2 CDR)."""
-
-    def __init__(self, path: Path) -> None:
-        try:
-            from mcap.exceptions import McapError
-            from mcap.reader import SeekingReader
-            from mcap_ros2.decoder import DecoderFactory
-        except ModuleNotFoundError as error:  # pragma: no cover - the extra is missing
-            raise ModuleNotFoundError(
-                "replaying ROS 2 bags needs the [ros] extra: pip install 'radial_ibvs_gym[ros]'"
-            ) from error
-        self.path = path
-        self._stream = path.open("rb")
-        try:
-            self._reader = SeekingReader(
-                self._stream,
-                validate_crcs=True,
-                decoder_factories=[DecoderFactory()],
-                record_size_limit=MAX_RECORD_BYTES,
-            )
-            summary = self._reader.get_summary()
-        except (McapError, struct.error, EOFError, ValueError) as error:
-            self._stream.close()
-            raise BagError(f"{path}: not a readable MCAP file ({error})") from None
-        if summary is None:
-            self._stream.close()
-            raise BagError(f"{path}: the MCAP file has no index (summary); re-index it first")
-        for chunk in summary.chunk_indexes:
-            if chunk.uncompressed_size > MAX_RECORD_BYTES:
-                self._stream.close()
-                raise BagError(
-                    f"{path}: a chunk of {chunk.uncompressed_size} bytes uncompressed (at most "
-                    f"{MAX_RECORD_BYTES})"
-                )
-        self.topics = {c.topic for c in summary.channels.values()}
-        self.counts = {
-            summary.channels[cid].topic: n
-            for cid, n in (
-                summary.statistics.channel_message_counts if summary.statistics else {}
-            ).items()
-        }
-
-    def close(self) -> None:
-        self._stream.close()
-
-    def messages(self, topic: str) -> Iterator[tuple[int, Any]]:
-        """``(log time, decoded message)`` of ``topic``, in the file's order."""
-        if topic not in self.topics:
-            raise BagError(f"{self.path}: no topic {topic!r}; the bag has {sorted(self.topics)}")
-        if self.counts.get(topic, 0) > MAX_FRAMES:
-            raise BagError(f"{self.path}: {topic} holds {self.counts[topic]} messages (at most "
-                           f"{MAX_FRAMES})")  # fmt: skip
-        for _, _, message, decoded in self._reader.iter_decoded_messages(
-            topics=[topic], log_time_order=False
-        ):
-            yield message.log_time, decoded
-
-
-def _frames(reader: _Reader, topic: str) -> list[_Frame]:
+def _frames(reader: BagReader, topic: str) -> list[_Frame]:
+    """Every frame of ``topic``, checked, in the file's order (the pixels are not kept)."""
     frames: list[_Frame] = []
-    for k, (log_ns, message) in enumerate(reader.messages(topic)):
-        frame = _Frame(_stamp(message.header), log_ns, _image(reader.path, topic, k, message))
+    for k, log_ns, message in reader.messages(topic, IMAGE):
+        if k >= MAX_FRAMES:
+            raise BagError(f"{reader.path}: {topic} holds over {MAX_FRAMES} frames")
+        shape = _image(reader.path, topic, k, message).shape
+        frame = _Frame(k, _stamp(message.header), log_ns, (shape[0], shape[1]))
         if frames and frame.stamp_ns <= frames[-1].stamp_ns:
             raise BagError(
                 f"{reader.path}: {topic}[{k}] is stamped {frame.stamp_ns} ns, not after the "
@@ -189,41 +126,70 @@ def _frames(reader: _Reader, topic: str) -> list[_Frame]:
     return frames
 
 
-def _pose_at(reader: _Reader, log_ns: int, what: str) -> NDArray[np.float64]:
-    """Return the robot's (``what="robot"``) or the goal's pose of the bag at ``log_ns``."""
+def _images(
+    reader: BagReader, topic: str, wanted: list[_Frame]
+) -> Iterator[tuple[_Frame, NDArray[np.uint8]]]:
+    """Yield the pixels of the ``wanted`` frames of ``topic``, one at a time, in file order."""
+    pending = iter(wanted)
+    frame = next(pending, None)
+    for k, _, message in reader.messages(topic, IMAGE):
+        if frame is None:
+            return
+        if k == frame.index:
+            yield frame, _image(reader.path, topic, k, message)
+            frame = next(pending, None)
+
+
+def _image_of(reader: BagReader, topic: str, frame: _Frame) -> NDArray[np.uint8]:
+    return next(_images(reader, topic, [frame]))[1]
+
+
+def _pose_at(reader: BagReader, log_ns: int, what: str, within_ns: int) -> NDArray[np.float64]:
+    """Return the robot's or the goal's pose in the bag nearest ``log_ns``, within ``within_ns``.
+
+    The robot's from ``/odom``, the goal's from ``/tf`` (frame ``goal``).
+    """
+    best: tuple[int, NDArray[np.float64]] | None = None
     if what == "robot":
-        for t, odom in reader.messages("/odom"):
-            if t == log_ns:
-                p, q = odom.pose.pose.position, odom.pose.pose.orientation
-                return np.array([p.x, p.y, 2.0 * math.atan2(q.z, q.w)])
+        for _, t, odom in reader.messages("/odom", "nav_msgs/msg/Odometry"):
+            p, q = odom.pose.pose.position, odom.pose.pose.orientation
+            if abs(t - log_ns) <= within_ns and (best is None or abs(t - log_ns) < best[0]):
+                best = (abs(t - log_ns), np.array([p.x, p.y, 2.0 * math.atan2(q.z, q.w)]))
     else:
-        for t, tf in reader.messages("/tf"):
-            if t != log_ns:
+        for _, t, tf in reader.messages("/tf", "tf2_msgs/msg/TFMessage"):
+            if abs(t - log_ns) > within_ns or (best is not None and abs(t - log_ns) >= best[0]):
                 continue
             for transform in tf.transforms:
                 if transform.child_frame_id == "goal":
                     tr, q = transform.transform.translation, transform.transform.rotation
-                    return np.array([tr.x, tr.y, 2.0 * math.atan2(q.z, q.w)])
-    topic = "/odom" if what == "robot" else "/tf (frame goal)"
-    raise BagError(f"{reader.path}: no {topic} at {log_ns} ns; give the {what} pose instead")
+                    best = (abs(t - log_ns), np.array([tr.x, tr.y, 2.0 * math.atan2(q.z, q.w)]))
+    if best is None or not np.isfinite(best[1]).all():
+        topic = "/odom" if what == "robot" else "/tf (frame goal)"
+        raise BagError(
+            f"{reader.path}: no {topic} within {within_ns} ns of {log_ns} ns; give the {what} "
+            f"pose (--start, --goal) or labels instead"
+        )
+    return best[1]
 
 
-def _landmarks_at(reader: _Reader, log_ns: int) -> NDArray[np.float64]:
+def _landmarks_at(reader: BagReader, log_ns: int) -> NDArray[np.float64]:
     found = None
-    for t, poses in reader.messages("/landmarks"):
+    for _, t, poses in reader.messages("/landmarks", "geometry_msgs/msg/PoseArray"):
         if t <= log_ns:
             found = np.array([[p.position.x, p.position.y, p.position.z] for p in poses.poses])
-    if found is None or found.ndim != 2 or len(found) == 0:
-        raise BagError(f"{reader.path}: no /landmarks before {log_ns} ns; give a map instead")
+    if found is None or found.ndim != 2 or len(found) == 0 or not np.isfinite(found).all():
+        raise BagError(f"{reader.path}: no /landmarks before {log_ns} ns; give labels instead")
     return found
 
 
-def _executed(reader: _Reader, topic: str, frames_ns: list[int]) -> NDArray[np.float64]:
+def _executed(reader: BagReader, topic: str, frames_ns: list[int]) -> NDArray[np.float64]:
     """Return the command in effect at each frame: the last ``topic`` message, ``(K, 2)``."""
     stamps, twists = [], []
-    for t, twist in reader.messages(topic):
+    for _, t, twist in reader.messages(topic, "geometry_msgs/msg/Twist"):
         stamps.append(t)
         twists.append((float(twist.linear.x), float(twist.angular.z)))
+    if not stamps:
+        raise BagError(f"{reader.path}: {topic} holds no command")
     order = np.argsort(np.asarray(stamps, dtype=np.int64), kind="stable")
     times = np.asarray(stamps, dtype=np.int64)[order]
     values = np.asarray(twists, dtype=np.float64).reshape(-1, 2)[order]
@@ -328,90 +294,102 @@ def replay_bag(
         )
     if goal_image is not None and goal_at is not None:
         raise ValueError("give the goal image as a file or as a time, not both")
+    if goal_at is not None and not (math.isfinite(goal_at) and goal_at >= 0):
+        raise ValueError(f"goal_at must be a time in seconds, 0 or more, got {goal_at!r}")
     labelled = read_labels(labels) if labels is not None else None
-    reader = _Reader(_mcap_path(bag))
+    reader = BagReader(mcap_path(bag))
+    staging: Path | None = None
     try:
         frames = _frames(reader, image_topic)
         if not frames:
             raise BagError(f"{reader.path}: {image_topic} holds no frame")
+        goal_log_ns: int | None = None  # where the goal image was taken, if from the bag
         if goal_image is not None:  # a file: every frame of the topic is replayed
-            goal_frame = _Frame(-1, -1, read_goal_image(goal_image, MAX_FRAME_PIXELS))
+            goal_pixels = read_goal_image(goal_image, MAX_FRAME_PIXELS)
         elif goal_at is not None:  # the frame nearest that time, seconds after the first
             wanted = frames[0].stamp_ns + round(goal_at * 1e9)
-            goal_frame = min(frames, key=lambda f: abs(f.stamp_ns - wanted))
+            nearest = min(frames, key=lambda f: abs(f.stamp_ns - wanted))
+            goal_pixels, goal_log_ns = _image_of(reader, image_topic, nearest), nearest.log_ns
         else:
             goals = _frames(reader, goal_image_topic)
             if not 0 <= episode < len(goals):
                 raise BagError(f"{reader.path}: episode {episode}, but {goal_image_topic} "
                                f"holds {len(goals)} goal images")  # fmt: skip
-            goal_frame = goals[episode]
+            goal_pixels = _image_of(reader, goal_image_topic, goals[episode])
             end = goals[episode + 1].log_ns if episode + 1 < len(goals) else math.inf
-            frames = [f for f in frames if goal_frame.log_ns <= f.log_ns < end]
+            frames = [f for f in frames if goals[episode].log_ns <= f.log_ns < end]
             if not frames:
                 raise BagError(f"{reader.path}: no {image_topic} frame after goal image {episode}")
-        size = frames[0].image.shape[0]
-        if any(f.image.shape != (size, size) for f in (*frames, goal_frame)):
+        size = frames[0].shape[0]
+        if any(f.shape != (size, size) for f in frames) or goal_pixels.shape != (size, size):
             raise BagError(f"{reader.path}: the frames and the goal image must be square and "
                            f"of one size")  # fmt: skip
+        kwargs = env_kwargs_for(policy, scenario, env_kwargs)
+        kwargs.update(measurement="detected", image_size=size)
+        config = ParkingConfig.from_kwargs(owner="radial-ibvs replay", **kwargs)
+        if config.privileged or config.obs_mode != "points" or config.privileged_map:
+            needs = "the true pose" if config.privileged else "obs_mode=" + repr(config.obs_mode)
+            raise ValueError(
+                f"replay runs image-only policies on image points; {policy_name!r} needs {needs}"
+            )
+        period = config.control_dt
+        half = round(period * 5e8)  # a pose within half a period of an image's time
         first = frames[0]
         if labelled is None:  # labels from the map and the two images' poses
             if landmarks is None:
                 landmarks = _landmarks_at(reader, first.log_ns)
             if start is None:
-                start = _pose_at(reader, first.log_ns, "robot")
+                start = _pose_at(reader, first.log_ns, "robot", half)
             if goal is None:
-                if goal_frame.log_ns < 0:
+                if goal_log_ns is None and goal_image is not None:
                     raise ValueError("a goal image from a file needs its pose (goal) or labels")
-                goal = _pose_at(reader, goal_frame.log_ns, "goal")
+                goal = (  # a goal frame of the image topic: where the robot stood then
+                    _pose_at(reader, goal_log_ns, "robot", half)
+                    if goal_log_ns is not None
+                    else _pose_at(reader, goals[episode].log_ns, "goal", half)
+                )
         executed = None
         if motion == "recorded":
             executed = _executed(reader, command_topic, [f.log_ns for f in frames])
-    finally:
-        reader.close()
-    kwargs = env_kwargs_for(policy, scenario, env_kwargs)
-    kwargs.update(measurement="detected", image_size=size)
-    config = ParkingConfig.from_kwargs(owner="radial-ibvs replay", **kwargs)
-    if config.privileged or config.obs_mode != "points" or config.privileged_map:
-        raise ValueError(
-            f"replay runs image-only policies on image points; {policy_name!r} needs "
-            f"{'the true pose' if config.privileged else 'obs_mode=' + repr(config.obs_mode)}"
+        scene_config = config.scenario.config
+        height = scene_config.fixed_camera_height("radial-ibvs replay")
+        detector = DetectedPoints(
+            config.scenario.camera, config.scenario.goal_camera, height, size,
+            beacon_radius=config.beacon_radius,
+        )  # fmt: skip
+        if labelled is not None:
+            goal_labels, first_labels = labelled.goal, labelled.first
+            goal_depths = labelled.goal_depths
+            if config.goal_depths and goal_depths is None:
+                raise ValueError(f"{labels}: {policy_name!r} needs the goal depths (goal_depths)")
+        else:
+            assert start is not None and goal is not None  # read from the bag above
+            landmarks = np.asarray(landmarks, dtype=np.float64).reshape(-1, 3)
+            goal_labels = detector.predicted(goal, "goal", landmarks)
+            first_labels = detector.predicted(start, "current", landmarks)
+            p = world_to_camera(landmarks, goal, height, validate=False)
+            goal_depths = scene_config.depth_scale * np.hypot(p[:, 0], p[:, 1])
+        images = _images(reader, image_topic, frames)
+        _, first_pixels = next(images)
+        goal_points, goal_visible = detector.start(
+            goal_pixels, goal_labels, first_pixels, first_labels
         )
-    scene_config = config.scenario.config
-    height = scene_config.fixed_camera_height("radial-ibvs replay")
-    detector = DetectedPoints(
-        config.scenario.camera, config.scenario.goal_camera, height, size,
-        beacon_radius=config.beacon_radius,
-    )  # fmt: skip
-    if labelled is not None:
-        goal_labels, first_labels = labelled.goal, labelled.first
-        goal_depths = labelled.goal_depths
-        if config.goal_depths and goal_depths is None:
-            raise ValueError(f"{labels}: {policy_name!r} needs the goal depths (goal_depths)")
-    else:
-        assert start is not None and goal is not None  # read from the bag above
-        landmarks = np.asarray(landmarks, dtype=np.float64).reshape(-1, 3)
-        goal_labels = detector.predicted(goal, "goal", landmarks)
-        first_labels = detector.predicted(start, "current", landmarks)
-        p = world_to_camera(landmarks, goal, height, validate=False)
-        goal_depths = scene_config.depth_scale * np.hypot(p[:, 0], p[:, 1])
-    goal_points, goal_visible = detector.start(
-        goal_frame.image, goal_labels, first.image, first_labels
-    )
-    n = len(goal_labels)
-    messages = Messages()
-    period = config.control_dt
-    limits = np.array([config.robot.max_linear_speed, config.robot.max_angular_speed])
-    result = Replay(
-        stamps_ns=np.array([f.stamp_ns for f in frames], dtype=np.int64),
-        commands=np.zeros((len(frames), 2)),
-        points=np.zeros((len(frames), n, 2)),
-        visible=np.zeros((len(frames), n), dtype=bool),
-    )
-    out.parent.mkdir(parents=True, exist_ok=True)
-    staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
-    bar = tqdm(total=len(frames), desc="replay", unit="frame", disable=not progress)
-    try:
-        with Writer(staging / out.name, version=9, storage_plugin=StoragePlugin.MCAP) as writer:
+        n = len(goal_labels)
+        messages = Messages()
+        limits = np.array([config.robot.max_linear_speed, config.robot.max_angular_speed])
+        result = Replay(
+            stamps_ns=np.array([f.stamp_ns for f in frames], dtype=np.int64),
+            commands=np.zeros((len(frames), 2)),
+            points=np.zeros((len(frames), n, 2)),
+            visible=np.zeros((len(frames), n), dtype=bool),
+        )
+        out.parent.mkdir(parents=True, exist_ok=True)
+        staging = Path(tempfile.mkdtemp(prefix=f".{out.name}.", dir=out.parent))
+        bar = tqdm(total=len(frames), desc="replay", unit="frame", disable=not progress)
+        with (
+            bar,
+            Writer(staging / out.name, version=9, storage_plugin=StoragePlugin.MCAP) as writer,
+        ):
             connections = {
                 topic: writer.add_connection(topic, TOPICS[topic][0], typestore=messages.store)
                 for topic in ("/cmd_vel", "/image_points", "/goal_image_points")
@@ -430,12 +408,19 @@ def replay_bag(
             points, visible = detector.initial()
             for k, frame in enumerate(frames):
                 if k:
-                    dt = (frame.stamp_ns - frames[k - 1].stamp_ns) / 1e9
-                    missing = max(round(dt / period) - 1, 0) if dt >= DROPPED * period else 0
+                    _, pixels = next(images)
+                    gap = (frame.stamp_ns - frames[k - 1].stamp_ns) / 1e9
+                    missing = max(round(gap / period) - 1, 0) if gap >= DROPPED * period else 0
+                    if missing > MAX_DROPPED:
+                        raise BagError(
+                            f"{reader.path}: {image_topic}[{frame.index}] comes {gap:.3g} s after "
+                            f"the frame before it: {missing} frames dropped, more than "
+                            f"{MAX_DROPPED} (a break in the recording: replay each part alone)"
+                        )
                     for _ in range(missing):  # dropped frames: nothing seen, the tracks coast
                         detector.observe_image(None)
                     result.dropped += missing
-                    points, visible = detector.observe_image(frame.image)
+                    points, visible = detector.observe_image(pixels)
                 if hasattr(policy, "control_dt") and k + 1 < len(frames):
                     # a policy that predicts the motion until the next frame: that interval
                     policy.control_dt = (frames[k + 1].stamp_ns - frame.stamp_ns) / 1e9
@@ -470,6 +455,7 @@ def replay_bag(
         (staging / out.name / "commands.csv").write_text(table.getvalue())
         (staging / out.name).rename(out)
     finally:
-        bar.close()
-        shutil.rmtree(staging, ignore_errors=True)
+        reader.close()
+        if staging is not None:
+            shutil.rmtree(staging, ignore_errors=True)
     return result

@@ -17,6 +17,7 @@ mcap_decoder = pytest.importorskip("mcap_ros2.decoder", reason="the [ros] extra"
 
 from rosbags.rosbag2 import Reader, StoragePlugin, Writer  # noqa: E402
 
+from radial_ibvs_agents.bags import bag_reader  # noqa: E402
 from radial_ibvs_agents.bags import replay as replay_module  # noqa: E402
 from radial_ibvs_agents.bags.messages import Messages  # noqa: E402
 from radial_ibvs_agents.bags.record import record_episodes  # noqa: E402
@@ -153,7 +154,7 @@ def test_sizes_are_bounded_before_anything_is_decoded(
     monkeypatch.setattr(replay_module, "MAX_FRAME_PIXELS", 64 * 64)
     with pytest.raises(BagError, match=r"a 128 x 128 frame \(at most 4096 pixels\)"):
         replay_bag(bag, POLICY, tmp_path / "o", env_kwargs=DETECTED, progress=False)
-    monkeypatch.setattr(replay_module, "MAX_RECORD_BYTES", 1000)
+    monkeypatch.setattr(bag_reader, "MAX_RECORD_BYTES", 1000)
     with pytest.raises(BagError, match=r"exceeds limit 1000|\(at most 1000\)"):
         replay_bag(bag, POLICY, tmp_path / "p", env_kwargs=DETECTED, progress=False)
 
@@ -332,3 +333,98 @@ def test_the_camera_comes_from_a_file_and_a_bad_key_is_named(
     (tmp_path / "camera.yaml").write_text("mirror: A\nfocal: 3\n")
     assert main([*args, "--out", str(tmp_path / "c")]) == 2
     assert "focal" in capsys.readouterr().err
+
+
+def _recompressed(src: Path, dst: Path, compression: str) -> Path:
+    """The bag's messages in one .mcap file written by the mcap library, chunks compressed."""
+    from mcap.writer import CompressionType
+    from mcap.writer import Writer as McapWriter
+
+    dst.mkdir()
+    path = dst / f"{dst.name}.mcap"
+    kind = {"zstd": CompressionType.ZSTD, "lz4": CompressionType.LZ4}[compression]
+    store = Messages().store
+    with Reader(src) as reader, path.open("wb") as stream:
+        writer = McapWriter(stream, compression=kind, chunk_size=64 * 1024)
+        writer.start(profile="ros2", library="tests")
+        channels = {}
+        for c in reader.connections:
+            schema = writer.register_schema(
+                c.msgtype, "ros2msg", store.generate_msgdef(c.msgtype)[0].encode()
+            )
+            channels[c.id] = writer.register_channel(c.topic, "cdr", schema)
+        for connection, log_ns, raw in reader.messages():
+            writer.add_message(channels[connection.id], log_ns, bytes(raw), log_ns)
+        writer.finish()
+    return path
+
+
+@pytest.mark.parametrize("compression", ["zstd", "lz4"])
+def test_compressed_chunks_replay_alike_and_a_lying_chunk_is_refused(
+    recorded: Any, tmp_path: Path, compression: str
+) -> None:
+    bag, _ = recorded
+    plain = replay_bag(bag, POLICY, tmp_path / "plain", env_kwargs=DETECTED, progress=False)
+    path = _recompressed(bag, tmp_path / compression, compression)
+    packed = replay_bag(path, POLICY, tmp_path / "packed", env_kwargs=DETECTED, progress=False)
+    np.testing.assert_array_equal(packed.commands, plain.commands)
+    # every chunk's header and index claim 1000 bytes uncompressed: a bomb to zstd and lz4
+    from mcap.reader import make_reader
+
+    with path.open("rb") as stream:
+        chunk = make_reader(stream).get_summary().chunk_indexes[0]
+    data = path.read_bytes()
+    claimed = chunk.uncompressed_size.to_bytes(8, "little")
+    lying = tmp_path / "lying.mcap"
+    lying.write_bytes(data.replace(claimed, (1000).to_bytes(8, "little")))
+    refused = r"zstd frame claims .*1000|lz4 frame does not hold|LZ4F_decompress failed"
+    with pytest.raises(BagError, match=refused):
+        replay_bag(lying, POLICY, tmp_path / "o", env_kwargs=DETECTED, progress=False)
+    # a header that disagrees with its index
+    header = data.index(claimed, chunk.chunk_start_offset)
+    odd = tmp_path / "odd.mcap"
+    odd.write_bytes(data[:header] + (1000).to_bytes(8, "little") + data[header + 8 :])
+    with pytest.raises(BagError, match=r"1000 bytes uncompressed \(its index"):
+        replay_bag(odd, POLICY, tmp_path / "p", env_kwargs=DETECTED, progress=False)
+
+
+def test_a_break_in_the_recording_is_an_error_not_a_long_coast(
+    recorded: Any, tmp_path: Path
+) -> None:
+    bag, _ = recorded
+    late = tmp_path / "late"
+
+    def jump(topic: str, t: int, message: Any, k: int) -> Any:
+        if topic == "/camera/image" and k >= 4:
+            message.header.stamp.sec += 3600  # an hour later: a clock jump, not 36,000 drops
+        return message
+
+    _copy(bag, late, jump)
+    with pytest.raises(
+        BagError, match=r"/camera/image\[4\] comes 3.6e\+03 s after .* more than 100"
+    ):
+        replay_bag(late, POLICY, tmp_path / "o", env_kwargs=DETECTED, progress=False)
+
+
+def test_a_command_topic_without_commands_and_a_bad_goal_time_are_refused(
+    recorded: Any, tmp_path: Path
+) -> None:
+    bag, _ = recorded
+    with pytest.raises(BagError, match="/room holds geometry_msgs/msg/PolygonStamped, not"):
+        replay_bag(bag, POLICY, tmp_path / "o", motion="recorded", command_topic="/room",
+                   env_kwargs=DETECTED, progress=False)  # fmt: skip
+    for value in (float("nan"), -1.0, float("inf")):
+        with pytest.raises(ValueError, match="goal_at must be a time"):
+            replay_bag(bag, POLICY, tmp_path / "o", goal_at=value, progress=False)
+
+
+def test_a_goal_frame_by_time_is_labelled_from_where_the_robot_stood(
+    recorded: Any, tmp_path: Path
+) -> None:
+    # the goal image: the last frame of episode 0, the robot's pose then from /odom
+    bag, episodes = recorded
+    at = episodes[0].steps * 0.1
+    result = replay_bag(bag, POLICY, tmp_path / "at", env_kwargs=DETECTED, goal_at=at,
+                        progress=False)  # fmt: skip
+    assert len(result.commands) == len(_read(bag, "/camera/image"))
+    assert result.visible[0].sum() >= 3  # the first frame's landmarks were labelled
