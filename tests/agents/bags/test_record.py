@@ -199,3 +199,27 @@ def test_each_frame_an_averaged_goal_image_took_is_recorded(tmp_path: Path) -> N
         np.testing.assert_array_equal(~np.isnan(goal[:, 0]), visible)
         mean = total[visible] / np.linalg.norm(total[visible], axis=-1, keepdims=True)
         np.testing.assert_allclose(goal[visible], mean, rtol=0, atol=1e-12)
+
+
+def test_odometry_holds_the_motion_that_moved_the_robot(tmp_path: Path) -> None:
+    # the exact unicycle with the recorded (v, omega) over a period gives the next pose
+    out = tmp_path / "odom"
+    record_episodes("pbvs", out, "paper-sim", max_steps=20, progress=False,
+                    env_kwargs={"physics": "kinematic"})  # fmt: skip
+    odom = [m for _, _, m in _read(out)["/odom"]]
+    poses = [
+        (m.pose.pose.position.x, m.pose.pose.position.y,
+         2 * math.atan2(m.pose.pose.orientation.z, m.pose.pose.orientation.w))
+        for m in odom
+    ]  # fmt: skip
+    moved = 0
+    for (x, y, yaw), (x1, y1, _), m in zip(poses, poses[1:], odom[1:], strict=False):
+        v, w, dt = m.twist.twist.linear.x, m.twist.twist.angular.z, 0.1
+        half = 0.5 * w * dt
+        chord = v * dt * (math.sin(half) / half if half else 1.0)
+        np.testing.assert_allclose(
+            [x + chord * math.cos(yaw + half), y + chord * math.sin(yaw + half)], [x1, y1],
+            rtol=0, atol=1e-9,
+        )  # fmt: skip
+        moved += abs(v) > 1e-3
+    assert moved > 5
