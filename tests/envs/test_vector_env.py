@@ -426,3 +426,19 @@ def test_native_equals_sync_when_scenes_draw_landmark_counts_camera_heights_and_
     if env_id.endswith("Parking-v0"):
         kwargs.update(obs_mode="features", goal_depths=True, privileged=True)
     assert _run_both(env_id, 4, 150, "next_step", 0.0, **kwargs) > 0
+
+
+def test_native_equals_sync_with_noise_drawn_per_episode_and_mixed_mirrors() -> None:
+    # noise levels drawn per episode (some robots nearly quiet), the mirror drawn too: the
+    # batch shares one reflection at some steps and not at others, and the noise drawn ahead
+    # in blocks must leave every generator where SyncVectorEnv's envs leave theirs
+    camera = {
+        "mirror": "A",
+        "non_central_offset": 0.01,
+        "imperfection_ranges": {"principal_point_offset": 2.0, "pixel_noise_std": [0.0, 1.0]},
+    }
+    kwargs: dict[str, Any] = {
+        "scenario": "random", "physics": "kinematic", "camera": camera, "mirrors": ["A", "B"],
+        "max_episode_steps": 20, "obs_mode": "features", "max_landmarks": 12,
+    }  # fmt: skip
+    assert _run_both("RadialIBVS/Parking-v0", 3, 80, "next_step", 0.0, **kwargs) >= 6
