@@ -23,6 +23,10 @@ The bag is data a user hands over, read by :class:`~radial_ibvs_agents.bags.bag_
 ROS 2 types); the images' size is bounded (:data:`MAX_FRAME_PIXELS`) and the frames counted
 (:data:`MAX_FRAMES`). The frames are read twice, once for their time stamps and once, one at a
 time, for the replay: a long recording is never held in memory. Nothing in a bag is run.
+
+About 460 lines: ``replay_bag`` and the readers of the few topics it needs (frames, poses, the
+map, the executed commands), which share its bounds (``MAX_FRAME_PIXELS``, ``MAX_FRAMES``); the
+bag's bytes are read in :mod:`~radial_ibvs_agents.bags.bag_reader`.
 """
 
 from __future__ import annotations
