@@ -20,7 +20,6 @@ checks it against that reference).
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -158,65 +157,18 @@ class OmniRenderer:
         numpy.ndarray
             ``(size, size)`` uint8 grey image.
         """
-        p = as_float_array(pose, "pose")
-        check_last_dim(p, 3, "pose")
-        if p.ndim != 1:
-            raise ValueError(f"pose must have shape (3,), got {p.shape}; see render_batch")
-        return self.render_batch(p[None], scene, quality, [rng])[0]
-
-    def render_batch(
-        self,
-        poses: ArrayLike,
-        scene: RoomScene,
-        quality: ImageQuality | None = None,
-        rngs: Sequence[np.random.Generator | None] | None = None,
-    ) -> NDArray[np.uint8]:
-        """Render the views from ``B`` robot poses in one room, in one batched pass.
-
-        The frames' rays are shaded together (:func:`~radial_ibvs_gym.vision.room_rays.shade_rays`);
-        each image is the one :meth:`render` gives alone, bit for bit, and frame ``b``'s sensor
-        noise is drawn from ``rngs[b]`` as :meth:`render` draws it.
-
-        Parameters
-        ----------
-        poses
-            ``(B, 3)`` robot poses ``(x, y, yaw)``, metres and radians.
-        scene
-            The room (one for every frame).
-        quality
-            Blur, exposure and sensor noise (default: a perfect image).
-        rngs
-            ``B`` generators of the frames' sensor noise (needed when ``quality.noise_std > 0``).
-
-        Returns
-        -------
-        numpy.ndarray
-            ``(B, size, size)`` uint8 grey images.
-        """
         quality = quality or ImageQuality()
-        v, ks, xs, ys, cs, ss = self._frames(poses, scene)
-        b, pixels = len(ks), self.size * self.size
-        rngs = [None] * b if rngs is None else list(rngs)
-        if len(rngs) != b:
-            raise ValueError(f"rngs must hold one generator per pose ({b}), got {len(rngs)}")
-        shades = shade_rays(v, ks, xs, ys, cs, ss, scene)
         if quality.blur_sigma > 0 or quality.noise_std > 0:  # they mix or draw every pixel
-            images = np.repeat(v.image[None], b, axis=0)
-            images[self._frame_index(v, ks)] = shades
-            return np.stack(
-                [
-                    _finish(image.reshape(self.size, self.size), quality, rng)
-                    for image, rng in zip(images, rngs, strict=True)
-                ]
-            )
+            return _finish(self.shade(pose, scene), quality, rng)
         # exposure and quantising act pixel by pixel: the rays that keep their floor or
         # ceiling shade keep their quantised grey level too (cached per room height)
+        v, k, x, y, c, s = self._frame(pose, scene)
         key = (scene.height, quality.exposure)
         if self._quantised_cache is None or self._quantised_cache[0] != key:
             self._quantised_cache = (key, _quantise(v.image, quality.exposure))
-        images = np.repeat(self._quantised_cache[1][None], b, axis=0)
-        images.reshape(b * pixels)[self._flat_index(v, ks)] = _quantise(shades, quality.exposure)
-        return images.reshape(b, self.size, self.size)
+        image = self._quantised_cache[1].copy()
+        image[v.index[k:]] = _quantise(shade_rays(v, k, x, y, c, s, scene), quality.exposure)
+        return image.reshape(self.size, self.size)
 
     def shade(self, pose: ArrayLike, scene: RoomScene) -> NDArray[np.float64]:
         """Compute the perfect image's grey levels from a pose, before exposure and quantising.
@@ -233,55 +185,30 @@ class OmniRenderer:
         numpy.ndarray
             ``(size, size)`` grey levels in ``[0, 1]``.
         """
-        p = as_float_array(pose, "pose")
-        check_last_dim(p, 3, "pose")
-        v, ks, xs, ys, cs, ss = self._frames(p.reshape(1, 3), scene)
+        v, k, x, y, c, s = self._frame(pose, scene)
         image = v.image.copy()
-        image[v.index[ks[0] :]] = shade_rays(v, ks, xs, ys, cs, ss, scene)
+        image[v.index[k:]] = shade_rays(v, k, x, y, c, s, scene)
         return image.reshape(self.size, self.size)
 
-    def _frame_index(
-        self, v: VerticalHits, ks: list[int]
-    ) -> tuple[NDArray[np.intp], NDArray[np.intp]]:
-        """``(frame, pixel)`` of each shaded ray of :func:`shade_rays`'s frames, in its order."""
-        counts = [len(v.index) - k for k in ks]
-        frame = np.repeat(np.arange(len(ks)), counts)
-        return frame, np.concatenate([v.index[k:] for k in ks])
-
-    def _flat_index(self, v: VerticalHits, ks: list[int]) -> NDArray[np.intp]:
-        """The flat index in ``B`` stacked images of each shaded ray, in :func:`shade_rays`'s order."""
-        if len(ks) == 1:
-            return v.index[ks[0] :]
-        pixels = self.size * self.size
-        return np.concatenate([v.index[k:] + b * pixels for b, k in enumerate(ks)])
-
-    def _frames(
-        self, poses: ArrayLike, scene: RoomScene
-    ) -> tuple[VerticalHits, list[int], list[float], list[float], list[float], list[float]]:
-        """Return the rays of the room's height, and per pose the first ray that may meet a wall.
+    def _frame(
+        self, pose: ArrayLike, scene: RoomScene
+    ) -> tuple[VerticalHits, int, float, float, float, float]:
+        """Return the rays of the room's height, the first that may meet a wall, the pose.
 
         The rays whose floor or ceiling hit is nearer the camera's axis than any wall meet no
         wall first, whatever the heading (the room is convex and the rays start in it): they
         keep the floor or ceiling shade of ``v.image``. Returns ``(v, k, x, y, cos yaw, sin
-        yaw)``, each but ``v`` a list of one entry per pose: the rays from the ``k``-th on are
-        the others.
+        yaw)``: the rays from the ``k``-th on are the others.
         """
-        p = as_float_array(poses, "poses")
-        check_last_dim(p, 3, "poses")
-        if p.ndim != 2 or len(p) == 0:
-            raise ValueError(f"poses must have shape (B, 3) with B >= 1, got {p.shape}")
-        check_finite(p, "poses")
+        p = as_float_array(pose, "pose")
+        check_last_dim(p, 3, "pose")
+        check_finite(p, "pose")
+        x, y, yaw = (float(v) for v in p)
         v = self._vertical(scene.height)
         w, depth = scene.size
-        ks, xs, ys, cs, ss = [], [], [], [], []
-        for x, y, yaw in p.tolist():
-            inner = min(x, w - x, y, depth - y) - _MARGIN
-            ks.append(int(np.searchsorted(v.reach, inner)) if inner > v.origin_reach else 0)
-            xs.append(x)
-            ys.append(y)
-            cs.append(math.cos(yaw))
-            ss.append(math.sin(yaw))
-        return v, ks, xs, ys, cs, ss
+        inner = min(x, w - x, y, depth - y) - _MARGIN
+        k = int(np.searchsorted(v.reach, inner)) if inner > v.origin_reach else 0
+        return v, k, x, y, math.cos(yaw), math.sin(yaw)
 
 
 #: metres: a floor hit this much nearer than the walls is on the floor, in every rounding

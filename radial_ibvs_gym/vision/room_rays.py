@@ -3,7 +3,7 @@
 :class:`VerticalHits` holds every ray's floor or ceiling hit for one room height (computed
 once: the floor and the ceiling do not turn with the robot), the rays sorted by how far that
 hit lies from the camera's axis, and by azimuth. :func:`shade_rays` meets the rays that may
-reach a wall with the walls at one pose or a batch of poses, shades them and paints the beacons, each tried on
+reach a wall with the walls at one pose, shades them and paints the beacons, each tried on
 the rays of an azimuth window about its bearing (:func:`near_beacons`). Used by
 :class:`~radial_ibvs_gym.vision.omni.OmniRenderer`; pure numpy.
 """
@@ -12,8 +12,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from collections.abc import Sequence
-from typing import TYPE_CHECKING, Any
+from typing import TYPE_CHECKING
 
 import numpy as np
 from numpy.typing import NDArray
@@ -136,64 +135,42 @@ class VerticalHits:
 
 
 def shade_rays(
-    v: VerticalHits,
-    k: Sequence[int],
-    x: Sequence[float],
-    y: Sequence[float],
-    c: Sequence[float],
-    s: Sequence[float],
-    scene: RoomScene,
+    v: VerticalHits, k: int, x: float, y: float, c: float, s: float, scene: RoomScene
 ) -> NDArray[np.float64]:
-    """Shade ``B`` frames' rays, each met with every surface, and paint the beacons.
+    """Shade the rays from the ``k``-th on, each met with every surface, and paint the beacons.
 
-    Frame ``b`` shades the rays from its ``k[b]``-th on; the frames' rays go through the
-    arithmetic together, each with its own pose, so one call serves one frame or a batch, with
-    the same bits for each frame as alone. The first surface along a ray is the one of least
-    ray parameter (ties: the ``x`` walls, then the ``y`` walls, then the floor or ceiling);
-    each step below gives the same bits as the plain formulas in the comments
-    (``tests/vision/test_pixels.py``).
+    The first surface along a ray is the one of least ray parameter (ties: the ``x`` walls,
+    then the ``y`` walls, then the floor or ceiling); each step below gives the same bits as
+    the plain formulas in the comments (``tests/vision/test_pixels.py``).
 
     Parameters
     ----------
     v
         The rays' floor and ceiling hits for the scene's height.
     k
-        ``(B,)`` the first ray (in ``v``'s order) that may meet a wall, per frame.
+        The first ray (in ``v``'s order) that may meet a wall.
     x, y, c, s
-        ``(B,)`` the camera's position (metres) and the cosine and sine of the robot's
-        heading, per frame.
+        The camera's position (metres) and the cosine and sine of the robot's heading.
     scene
-        The room (one for every frame).
+        The room.
 
     Returns
     -------
     numpy.ndarray
-        ``(sum(R - k),)`` grey levels in ``[0, 1]``: frame after frame, each in ``v``'s order.
+        ``(R - k,)`` grey levels in ``[0, 1]``, in ``v``'s order.
     """
-    n = len(v.index)
-    ks = [int(i) for i in k]
-    if len(ks) == 1:  # one frame: views of the rays and the pose as numbers
-        rays_of: Any = slice(ks[0], None)
-        xr: Any = float(x[0])
-        yr: Any = float(y[0])
-        cr: Any = float(c[0])
-        sr: Any = float(s[0])
-    else:  # the frames' rays one after the other, each with its frame's pose
-        rays_of = np.concatenate([np.arange(kb, n) for kb in ks])
-        counts = n - np.array(ks)
-        xr, yr, cr, sr = (np.repeat(np.asarray(a, dtype=np.float64), counts) for a in (x, y, c, s))
-    o0, o1, d0, d1 = v.ox[rays_of], v.oy[rays_of], v.dx[rays_of], v.dy[rays_of]
-    ox = cr * o0
-    ox += xr
-    ox -= sr * o1  # x + c o0 - s o1, in that order
-    oy = sr * o0
-    oy += yr
-    oy += cr * o1  # y + s o0 + c o1
-    dx = cr * d0
-    dx -= sr * d1
-    dy = sr * d0
-    dy += cr * d1
-    tz = v.tz[rays_of]  # the floor and ceiling do not turn
+    o0, o1, d0, d1 = v.ox[k:], v.oy[k:], v.dx[k:], v.dy[k:]
+    ox = c * o0
+    ox += x
+    ox -= s * o1  # x + c o0 - s o1, in that order
+    oy = s * o0
+    oy += y
+    oy += c * o1  # y + s o0 + c o1
+    dx = c * d0
+    dx -= s * d1
+    dy = s * d0
+    dy += c * d1
+    tz = v.tz[k:]  # the floor and ceiling do not turn
     w, depth = scene.size
     # where(dx > 0, w - ox, -ox) as (w or 0) - ox: the same numbers (but the sign of a zero,
     # which no shade depends on), without a masked operation
@@ -212,7 +189,7 @@ def shade_rays(
     on_y = ty == t
     on_y &= ~on_x
     # where(on_x, x shade, where(on_y, y shade, floor or ceiling shade)), as a table lookup
-    code = v.up[rays_of] & ~(on_x | on_y)
+    code = v.up[k:] & ~(on_x | on_y)
     code = code.view(np.uint8) | (on_y.view(np.uint8) << 1)
     code |= on_x.view(np.uint8) * np.uint8(3)
     shade = SHADES.take(code)
@@ -226,22 +203,12 @@ def shade_rays(
     # ``|h| < r`` for each of the three coordinates), then the few left by the full test
     r, r2 = scene.beacon_radius, scene.beacon_radius**2
     toward = np.where(np.asarray(scene.walls) % 2 == 0, -1.0, 1.0)  # each beacon's wall
-    oz, dz = v.oz[rays_of], v.dz[rays_of]
-    starts = np.cumsum([0] + [n - kb for kb in ks[:-1]]).tolist()  # each frame's first ray
     # x walls: the normal is x, the coordinate along the wall y (1); y walls: y, and x (0)
     for x_walls, hits, normal, a, origin, direction in (
         (True, on_x, dx, 1, oy, dy),
         (False, on_y, dy, 0, ox, dx),
     ):
-        found = [
-            near_beacons(v, kb, float(xb), float(yb), float(cb), float(sb), scene, x_walls)
-            for kb, xb, yb, cb, sb in zip(ks, x, y, c, s, strict=True)
-        ]
-        if len(found) == 1:
-            rays, owner = found[0]
-        else:
-            rays = np.concatenate([f[0] + start for f, start in zip(found, starts, strict=True)])
-            owner = np.concatenate([f[1] for f in found])
+        rays, owner = near_beacons(v, k, x, y, c, s, scene, x_walls)
         keep = hits[rays]
         # towards the beacon's wall (x = 0 or y = 0: -d > 0, which is d < 0 bit for bit)
         keep &= normal[rays] * toward[owner] > 0
@@ -252,7 +219,7 @@ def shade_rays(
         tr = t[rays]
         hx = ox[rays] + tr * dx[rays] - beacon[:, 0]
         hy = oy[rays] + tr * dy[rays] - beacon[:, 1]
-        hz = oz[rays] + tr * dz[rays] - beacon[:, 2]
+        hz = v.oz[k:][rays] + tr * v.dz[k:][rays] - beacon[:, 2]
         shade[rays[hx * hx + hy * hy + hz * hz < r2]] = BEACON
     return shade
 
