@@ -145,7 +145,11 @@ class EpisodeSource:
         )
 
     def setup_episode(
-        self, rng: np.random.Generator, task: int | None, options: dict[str, Any]
+        self,
+        rng: np.random.Generator,
+        task: int | None,
+        options: dict[str, Any],
+        detector: DetectedPoints | None = None,
     ) -> EpisodeSetup:
         """Draw an episode with ``rng`` and take its goal image (the vector env uses it too).
 
@@ -157,6 +161,8 @@ class EpisodeSource:
             Task index, or ``None`` to draw one.
         options
             Reset options: ``start`` and ``goal`` poses fix those of the episode.
+        detector
+            The robot's detected-points pipeline (a vector env's robot), else the source's own.
 
         Raises
         ------
@@ -164,9 +170,10 @@ class EpisodeSource:
             For a bad option, or a goal image with fewer than ``min_visible`` landmarks
             (detected points: in 10 draws).
         """
+        detector = detector if detector is not None else self._detector
         # detected points: a goal image can show fewer beacons than the scenario guaranteed
         # (too small, cut by the rim); draw again, a bounded number of times
-        attempts = 10 if self._detector is not None and "goal" not in options else 1
+        attempts = 10 if detector is not None and "goal" not in options else 1
         for attempt in range(attempts):
             episode = self._draw_episode(rng, task, options)
             cameras, drawn = self._episode_cameras(rng, episode.mirror)
@@ -188,8 +195,8 @@ class EpisodeSource:
                 landmarks=None if present is None else landmarks,
                 present=present,
             )
-            if self._detector is not None:
-                setup.goal_points, setup.goal_visible = self._detector.reset(
+            if detector is not None:
+                setup.goal_points, setup.goal_visible = detector.reset(
                     episode.room, episode.landmarks, episode.start, episode.goal, rng
                 )
             else:
@@ -197,7 +204,7 @@ class EpisodeSource:
             if setup.goal_visible.sum() >= self.config.min_visible:
                 break
             if attempt == attempts - 1:
-                seen = "detected" if self._detector is not None else "visible"
+                seen = "detected" if detector is not None else "visible"
                 raise ValueError(
                     f"only {int(setup.goal_visible.sum())} landmarks are {seen} at the goal "
                     f"{episode.goal.tolist()}; at least {self.config.min_visible} are needed"

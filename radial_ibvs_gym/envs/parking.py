@@ -21,12 +21,12 @@ import numpy as np
 from radial_ibvs_gym.envs import observation as seen
 from radial_ibvs_gym.envs import rules
 from radial_ibvs_gym.envs.config import ParkingConfig
+from radial_ibvs_gym.envs.detectors import make_detector
 from radial_ibvs_gym.envs.episodes import EpisodeSetup, EpisodeSource
 from radial_ibvs_gym.envs.feature_errors import FeatureErrors
 from radial_ibvs_gym.envs.slots import Slots
 from radial_ibvs_gym.physics import RobotConfig, World, make_world, wheels_to_twist
 from radial_ibvs_gym.scenarios import Episode, Scenario
-from radial_ibvs_gym.vision import ImageQuality
 from radial_ibvs_gym.vision.pipeline import DetectedPoints
 
 __all__ = ["EpisodeSetup", "ParkingEnv"]
@@ -200,27 +200,7 @@ class ParkingEnv(gym.Env[dict[str, np.ndarray], np.ndarray]):
         self.render_mode = render_mode
         self._detector: DetectedPoints | None = None
         if config.measurement == "detected":
-            drawn = config.scenario.config.random_landmarks
-            if len(config.scenario.config.mirrors) > 1:
-                raise ValueError(
-                    f"measurement='detected' renders through one camera; scenario "
-                    f"{config.scenario.config.name!r} draws its mirror from "
-                    f"{list(config.scenario.config.mirrors)} per episode"
-                )
-            if drawn is not None and drawn.count_range[0] != drawn.count_range[1]:
-                raise ValueError(
-                    f"measurement='detected' labels a fixed number of beacons; scenario "
-                    f"{config.scenario.config.name!r} draws random_landmarks.count "
-                    f"{list(drawn.count_range)} per episode"
-                )
-            self._detector = DetectedPoints(
-                config.scenario.camera,
-                config.scenario.goal_camera,
-                config.scenario.config.fixed_camera_height("measurement='detected'"),
-                image_size=config.image_size,
-                beacon_radius=config.beacon_radius,
-                quality=ImageQuality(config.image_noise, config.image_blur, config.exposure),
-            )
+            self._detector = make_detector(config)
         self.episodes = EpisodeSource(config, self._detector)
         self.action_space = gym.spaces.Box(-1.0, 1.0, (2,), np.float32)
         self.observation_space = seen.observation_space(config)  # type: ignore[assignment]

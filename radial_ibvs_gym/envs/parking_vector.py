@@ -33,6 +33,7 @@ from radial_ibvs_gym.envs import rules
 from radial_ibvs_gym.envs.autoreset import AutoresetMode
 from radial_ibvs_gym.envs.camera_rows import CameraRows
 from radial_ibvs_gym.envs.config import ParkingConfig
+from radial_ibvs_gym.envs.detectors import DetectorRows
 from radial_ibvs_gym.envs.episode_batch import EpisodeBatch
 from radial_ibvs_gym.envs.episodes import EpisodeSetup, EpisodeSource
 from radial_ibvs_gym.envs.vector_info import masked, put, select, spread
@@ -79,8 +80,10 @@ class ParkingVectorEnv(VectorEnv):
     ## Arguments
     ``num_envs`` (>= 1), ``autoreset_mode``, ``max_episode_steps`` (the time limit; the
     registration's 600 by default), and every keyword argument of ``ParkingEnv``.
-    ``measurement="detected"`` and ``render_mode`` are not batched: use
-    ``vectorization_mode="sync"`` for them.
+    ``render_mode`` is not batched: use ``vectorization_mode="sync"`` for it. With
+    ``measurement="detected"`` each robot renders and detects its own frame, as the scalar
+    env does (:class:`~radial_ibvs_gym.envs.detectors.DetectorRows`: the renderers shared, the
+    same points bit for bit); the step around it, the policy's call and the physics are batched.
 
     ## Errors
     A NaN or infinite action raises ``ValueError`` naming the env; so does an action of the
@@ -121,11 +124,6 @@ class ParkingVectorEnv(VectorEnv):
             raise ValueError(
                 "the native vector env does not render; use gym.make_vec(..., "
                 "vectorization_mode='sync', render_mode=...) or a scalar env"
-            )
-        if kwargs.get("measurement", "ideal") == "detected":
-            raise ValueError(
-                "measurement='detected' renders and detects images per env and is not batched; "
-                "use gym.make_vec(..., vectorization_mode='sync')"
             )
         if not isinstance(autoreset_mode, AutoresetMode):
             if not isinstance(autoreset_mode, str) or autoreset_mode not in _MODES:
@@ -170,8 +168,11 @@ class ParkingVectorEnv(VectorEnv):
         camera = self.scenario.config.camera
         self._drawn = camera.imperfection_ranges is not None  # imperfections drawn per episode
         self._fast = not (camera.imperfections.any or self._drawn)
-        #: the imperfect cameras as arrays, their noise drawn ahead (None: the ideal camera)
-        self._cameras = None if self._fast else CameraRows(n, nl)
+        #: each robot's detected-points pipeline (``measurement="detected"``), else None
+        self._detectors = DetectorRows(config, n) if config.measurement == "detected" else None
+        #: the imperfect cameras as arrays, their noise drawn ahead (None: the ideal camera or
+        #: detected points, whose noise the renderer draws)
+        self._cameras = None if self._fast or self._detectors else CameraRows(n, nl)
 
     def _single_observation_space(self) -> spaces.Space[Any]:
         """One robot's observation space (the scalar env's)."""
@@ -241,7 +242,8 @@ class ParkingVectorEnv(VectorEnv):
             assert rng is not None
             if self._cameras is not None:  # the generator as one noise draw a step leaves it
                 self._cameras.noise.sync(i, rng)
-            setup = self.episodes.setup_episode(rng, task, options)
+            detector = None if self._detectors is None else self._detectors[i]
+            setup = self.episodes.setup_episode(rng, task, options, detector)
             self.batch.put(i, setup)
             if self._cameras is not None:
                 self._cameras.put(i, setup.cameras["current"])
@@ -250,7 +252,7 @@ class ParkingVectorEnv(VectorEnv):
             obstacles.append(setup.episode.obstacles)
         self.fleet.reset(indices, np.array(rooms), np.array(starts), obstacles)
         poses = self.fleet.poses
-        self._observe(poses, indices)
+        self._observe(poses, indices, first=True)
         goals = self.batch.goals[indices].T
         errors = rules.pose_errors(poses[indices].T, goals)
         self._prev[0][indices], self._prev[1][indices] = errors
@@ -317,6 +319,7 @@ class ParkingVectorEnv(VectorEnv):
         )
         info = self._info(poses, now, success, collision, n_visible, lost, self._held == 1)
         info |= masked(rules.reward_info(terms), np.ones(n, dtype=bool))
+        self._add_detection(info, np.arange(n))
         obs = self._observation()
         if resetting is not None:
             if resetting.any():
@@ -365,10 +368,24 @@ class ParkingVectorEnv(VectorEnv):
         return self._points, self.batch.goal_points
 
     # --- observation and info ------------------------------------------------------------------
-    def _observe(self, poses: NDArray[np.float64], indices: NDArray[np.intp]) -> None:
-        """Image points and visibility of the envs ``indices`` at their ``poses`` ``(N, 3)``."""
+    def _observe(
+        self, poses: NDArray[np.float64], indices: NDArray[np.intp], first: bool = False
+    ) -> None:
+        """Image points and visibility of the envs ``indices`` at their ``poses`` ``(N, 3)``.
+
+        ``first``: the envs were just reset (detected points: their episode's first frame,
+        measured by the reset).
+        """
         batch = self.batch
-        if self._fast:
+        nl = self._points.shape[1]
+        if self._detectors is not None:
+            if len(indices):
+                self._points[indices], self._visible[indices] = (
+                    self._detectors.initial(indices, nl)
+                    if first
+                    else self._detectors.observe(indices, poses, self._rngs, nl)
+                )
+        elif self._fast:
             if len(indices) == self.num_envs:
                 lo, hi = batch.bounds
                 pts, vis = seen.radial_image(batch.landmarks_c, lo, hi, poses)
@@ -392,7 +409,7 @@ class ParkingVectorEnv(VectorEnv):
                 visible &= present
                 points[~visible] = 0.0
             self._points[indices], self._visible[indices] = points, visible
-        if self.config.missed_detections is not None:
+        if self.config.missed_detections is not None and self._detectors is None:
             for i in indices.tolist():
                 missed = self._setup(i).missed
                 if missed is not None:
@@ -493,11 +510,25 @@ class ParkingVectorEnv(VectorEnv):
         """Return the ``info`` of :meth:`reset`: the reset envs' rows, the others masked."""
         mask = np.zeros(self.num_envs, dtype=bool)
         mask[indices] = True
-        return spread(self._reset_values(indices), indices, mask)
+        info = spread(self._reset_values(indices), indices, mask)
+        self._add_detection(info, indices)
+        return info
 
     def _merge_reset_info(self, info: dict[str, Any], indices: NDArray[np.intp]) -> None:
         """Replace the entries of the envs just reset by their reset info (as SyncVectorEnv)."""
         put(info, self._reset_values(indices), indices)
+        self._add_detection(info, indices)
+
+    def _add_detection(self, info: dict[str, Any], indices: NDArray[np.intp]) -> None:
+        """Write the envs ``indices``' ``info["detection"]`` (detected points), as SyncVectorEnv.
+
+        Gymnasium's own :meth:`~gymnasium.vector.VectorEnv._add_info` builds the entry: the
+        scalar env's dict (a status string, counts, the calibration found, the rejected blobs
+        by reason), row by row, with the same arrays, types and masks as ``SyncVectorEnv``.
+        """
+        if self._detectors is not None:
+            for i in indices.tolist():
+                self._add_info(info, {"detection": self._detectors.info(i)}, i)
 
     def close_extras(self, **kwargs: Any) -> None:
         """Release the physics."""

@@ -50,8 +50,9 @@ def select(info: dict[str, Any], mask: NDArray[np.bool_]) -> dict[str, Any]:
             continue
         if isinstance(value, dict):
             out[key] = select(value, mask)
-        elif isinstance(value, np.ndarray) and value.dtype != object:
-            kept = np.zeros_like(value)
+        elif isinstance(value, np.ndarray):
+            # objects (a detection's status string): None elsewhere, as Gymnasium's _add_info
+            kept = np.full_like(value, None) if value.dtype == object else np.zeros_like(value)
             kept[mask] = value[mask]
             out[key] = kept
         else:

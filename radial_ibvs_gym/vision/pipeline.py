@@ -9,6 +9,7 @@ fit on the episode's first image. An image without a border at reset is an error
 
 from __future__ import annotations
 
+import copy
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -87,6 +88,19 @@ class DetectedPoints:
         self.tracker: BeaconTracker | None = None
         self.status = "ok"
         self.last: dict[str, _Frame] = {}
+
+    def sharing(self) -> DetectedPoints:
+        """Return a pipeline of its own episode state that shares this one's renderers.
+
+        A renderer holds every pixel's ray (computed once per camera, megabytes at 384 px):
+        the robots of a vector env share them, each with its own scene, calibration and
+        tracker.
+        """
+        other = copy.copy(self)
+        other.scene, other.border, other.tracker = None, None, None
+        other.status, other.last = "ok", {}
+        other.__dict__.pop("_current", None)
+        return other
 
     def _renderer(self, which: str) -> OmniRenderer:
         return self.renderers[which] or self.renderers["current"]  # type: ignore[return-value]

@@ -105,6 +105,35 @@ def test_native_equals_sync_with_an_imperfect_camera_and_short_time_limit(mode: 
     assert ends >= 4  # truncations at 25 steps
 
 
+@pytest.mark.parametrize("mode", ["next_step", "same_step"])
+@pytest.mark.parametrize(
+    ("scenario", "image"),
+    [
+        ("paper-lab", {"image_size": 256, "beacon_radius": 0.08, "image_noise": 3.0}),
+        ("paper-sim", {"image_size": 192, "beacon_radius": 0.1, "exposure": 0.8}),
+    ],
+)
+def test_native_equals_sync_with_detected_points(
+    scenario: str, image: dict[str, Any], mode: str
+) -> None:
+    """Each robot renders and detects its own frames: the points, features and detection info
+    are Sync's bit for bit, the sensor noise drawn from each env's generator, through resets."""
+    ends = _run_both(
+        "RadialIBVS/Parking-v0",
+        3,
+        45,
+        mode,
+        0.0,
+        scenario=scenario,
+        physics="kinematic",
+        measurement="detected",
+        obs_mode="features",
+        max_episode_steps=12,
+        **image,
+    )
+    assert ends >= 6  # truncations at 12 steps
+
+
 def test_with_autoreset_disabled_an_ended_env_is_not_observed_until_reset() -> None:
     camera = {"mirror": "A", "non_central_offset": 0.01, "imperfections": {"pixel_noise_std": 0.5}}
     kwargs: dict[str, Any] = {"physics": "kinematic", "camera": camera}

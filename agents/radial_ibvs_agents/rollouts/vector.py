@@ -18,11 +18,13 @@ for the networks, whose actions differ in the last bits of a batched matrix prod
 successes and ends through an ideal camera (the ideal-camera variants of the generalisation
 suites, 408 episodes per policy), while through a noisy camera 1 to 16 of 100 episodes ended
 the other way (both ways: the student's rate moved from 63 to 65 % through noise and
-calibration error together), as small differences grow along a noisy episode. Where the
+calibration error together), as small differences grow along a noisy episode. With
+``measurement="detected"`` each robot's frame is rendered and detected one at a time inside
+the vector env (the same points as the scalar env's, bit for bit); the batch's policy call and
+step are batched around them. Where the
 vector env cannot run a variant, :func:`batchable` says why, and
 :func:`~radial_ibvs_agents.rollouts.run_episodes` runs the scalar path:
 
-- ``measurement="detected"`` renders and detects an image per robot (no batched renderer);
 - ``physics="pymunk"``: the batched fleet shares one ``pymunk.Space``, whose solver orders
   contacts differently, so the rows would not be the scalar env's bit for bit;
 - ``RadialIBVS/ParkingImage-v0`` has no vector env (it renders an image per robot).
@@ -47,8 +49,6 @@ def batchable(env_id: str, env_kwargs: Mapping[str, Any]) -> str | None:
     """Return why the vector env cannot run these episodes as the scalar env would, or None."""
     if env_id not in VECTOR_ENTRY_POINTS:
         return f"{env_id} has no vector env"
-    if env_kwargs.get("measurement", "ideal") == "detected":
-        return "detected points render and detect an image per robot"
     if env_kwargs.get("physics", "pymunk") == "pymunk":
         return "pymunk's batched contacts differ from the scalar env's in the last bits"
     return None
