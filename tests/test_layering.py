@@ -133,7 +133,7 @@ ENV_JOBS = (
     ("missed", "viewer", "autoreset", "slots", "noise_blocks"),
     ("rules", "observation", "vector_info", "feature_errors", "camera_rows"),
     ("config",),
-    ("episodes",),
+    ("episodes", "detectors"),
     ("episode_batch",),
     ("parking", "parking_vector"),
     ("parking_goal", "parking_image"),

@@ -298,7 +298,10 @@ def test_bad_shapes_and_counts_are_clear_errors() -> None:
     with pytest.raises(ValueError, match="num_envs"):
         gym.make_vec("RadialIBVS/Parking-v0", num_envs=0)
     with pytest.raises(ValueError, match="sync"):
-        gym.make_vec("RadialIBVS/Parking-v0", num_envs=2, measurement="detected")
+        ParkingVectorEnv(2, render_mode="rgb_array")
+    # the scalar env's checks of detected points, in the vector env too
+    with pytest.raises(ValueError, match=r"measurement='detected' renders through one camera"):
+        ParkingVectorEnv(2, scenario="random", measurement="detected", mirrors=["A", "B"])
     with pytest.raises(ValueError, match="autoreset_mode"):
         ParkingVectorEnv(2, autoreset_mode="sometimes")
     with pytest.raises(ValueError, match="obs_mode"):
