@@ -26,11 +26,12 @@ LAYERS = ("config", "geometry", "camera", "features", "vision", "physics", "scen
 BASE = {"_validation", "limits", "paper", "registration"}
 #: what each layer may import from outside the standard library, numpy and yaml
 EXTRA_ALLOWED = {
+    "camera": {"numba"},  # optional, imported at the first root-find (camera.meridian_jit)
     "vision": {"cv2"},
     "physics": {"pymunk"},
     "envs": {"gymnasium", "pymunk", "cv2", "matplotlib"},
 }
-HEAVY = ("gymnasium", "pymunk", "cv2", "torch", "matplotlib", "stable_baselines3")
+HEAVY = ("gymnasium", "pymunk", "cv2", "torch", "matplotlib", "stable_baselines3", "numba")
 #: the maths: importing any of these loads numpy and nothing heavier
 MATHS = ("radial_ibvs_gym", "radial_ibvs_gym.config", "radial_ibvs_gym.geometry",
          "radial_ibvs_gym.camera", "radial_ibvs_gym.features")  # fmt: skip

@@ -37,11 +37,13 @@ stay batch-independent.
 from __future__ import annotations
 
 import functools
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 
-from radial_ibvs_gym.camera.mirrors import QuadricMirror
+from radial_ibvs_gym.camera import meridian_jit
+from radial_ibvs_gym.camera.mirrors import Hyperboloid, QuadricMirror
 
 __all__ = ["MeridianSolver"]
 
@@ -138,6 +140,9 @@ class MeridianSolver:
         """
         if self._table is None:
             self._table = _first_guess_table(self.mirror, self.camera_z, self.side)
+        compiled = meridian_jit.kernel() if isinstance(self.mirror, Hyperboloid) else None
+        if compiled is not None:
+            return self._solve_compiled(compiled, rho_p, z_p)
         guess, half = self._table.lookup(rho_p, z_p)
         rootless = half == np.inf
         half[rootless] = np.nan
@@ -154,6 +159,37 @@ class MeridianSolver:
         s = self._illinois(a, b, g_a, g_b, rho_p, z_p)
         _, ok = self.residual(s, rho_p, z_p)
         return np.where(found & ok, s, np.nan)
+
+    def _solve_compiled(
+        self, compiled: Any, rho_p: NDArray[np.float64], z_p: NDArray[np.float64]
+    ) -> NDArray[np.float64]:
+        """:meth:`solve` through the compiled loop (:mod:`.meridian_jit`), the same bits."""
+        table, mirror = self._table, self.mirror
+        assert table is not None and isinstance(mirror, Hyperboloid)
+        rho = np.ascontiguousarray(rho_p, dtype=np.float64)
+        z = np.ascontiguousarray(z_p, dtype=np.float64)
+        out = np.empty(len(rho))
+        to_grid = np.empty(len(rho), dtype=np.bool_)
+        compiled(
+            rho,
+            z,
+            mirror.a,
+            mirror.b,
+            mirror.b / mirror.a**2,
+            self.camera_z,
+            table.cells,
+            table.shape[0],
+            table.shape[1],
+            table.d_direction,
+            table.d_inverse,
+            ITERATIONS,
+            out,
+            to_grid,
+        )
+        rest = np.flatnonzero(to_grid)
+        if len(rest):  # the grid search for the points the table does not bracket
+            out[rest] = self.grid_solve(rho[rest], z[rest])
+        return out
 
     def _illinois(
         self,
