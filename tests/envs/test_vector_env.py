@@ -134,6 +134,38 @@ def test_native_equals_sync_with_detected_points(
     assert ends >= 6  # truncations at 12 steps
 
 
+def test_the_vector_envs_frames_are_the_scalar_envs_by_hash() -> None:
+    """The images each robot rendered and detected: the scalar env's, by SHA-256, step by step."""
+    import hashlib
+
+    kwargs: dict[str, Any] = {
+        "scenario": "paper-sim",
+        "physics": "kinematic",
+        "measurement": "detected",
+        "image_size": 256,
+        "beacon_radius": 0.1,
+        "image_noise": 2.0,
+    }
+    native = ParkingVectorEnv(2, **kwargs)
+    singles = [gym.make("RadialIBVS/Parking-v0", **kwargs) for _ in range(2)]
+    native.reset(seed=[5, 9])
+    for single, seed in zip(singles, (5, 9), strict=True):
+        single.reset(seed=seed)
+    rng = np.random.default_rng(2)
+
+    def digests(frames: dict[str, np.ndarray]) -> dict[str, str]:
+        return {k: hashlib.sha256(v.tobytes()).hexdigest() for k, v in frames.items()}
+
+    for _ in range(8):
+        actions = rng.uniform(-1, 1, (2, 2)).astype(np.float32)
+        _, _, terminated, truncated, _ = native.step(actions)
+        assert not (terminated | truncated).any()  # no reset: the frames are the episode's
+        for i, single in enumerate(singles):
+            single.step(actions[i])
+            mine = {k: f.image for k, f in native._detectors[i].last.items()}  # type: ignore[index]
+            assert digests(mine) == digests(single.unwrapped.detected_frames)
+
+
 def test_with_autoreset_disabled_an_ended_env_is_not_observed_until_reset() -> None:
     camera = {"mirror": "A", "non_central_offset": 0.01, "imperfections": {"pixel_noise_std": 0.5}}
     kwargs: dict[str, Any] = {"physics": "kinematic", "camera": camera}
