@@ -326,6 +326,7 @@ class EKFPlanner(PBVSEKFPolicy):
             rooms[i], plans[i] = None, None
         mean, cov, velocity, started, solved, valid = self._filter(obs, state.filters, starts)
         actions = np.zeros((b, 2))
+        by_law: list[int] = []  # the robots the law drives: one batched call after the loop
         for i in np.flatnonzero(started).tolist():
             if rooms[i] is None:
                 rooms[i] = room_frame(self._landmarks(obs, i))
@@ -356,7 +357,7 @@ class EKFPlanner(PBVSEKFPolicy):
                     phase[i], left[i], sums[i], counts[i] = LOOK, self.look_steps, 0.0, 0
                 continue
             if phase[i] == LAW:
-                actions[i] = self.law.act_from_origin(mean[i][None])[0]
+                by_law.append(i)
                 continue
             row = rooms[i].observation(mean[i])
             fresh_plan = np.array([plans[i] is None])
@@ -368,6 +369,8 @@ class EKFPlanner(PBVSEKFPolicy):
             if phase[i] == CORRECT and done and abs(mean[i, 2]) < self.park_heading:
                 phase[i], left[i], sums[i], counts[i] = LOOK, self.look_steps, 0.0, 0
                 actions[i] = 0.0
+        if by_law:  # eq. (38) row by row: each robot's action has the bits it has alone
+            actions[by_law] = self.law.act_from_origin(mean[by_law])
         actions = np.clip(actions, -1.0, 1.0)
         moved = actions if executed is None else executed_actions(executed, b)
         mean, cov, velocity = self._predict(mean, cov, velocity, moved, started)
