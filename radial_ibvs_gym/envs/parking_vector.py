@@ -279,11 +279,7 @@ class ParkingVectorEnv(VectorEnv):
         resetting = (
             self._autoreset.copy() if self.autoreset_mode == AutoresetMode.NEXT_STEP else None
         )
-        command = np.clip(a, -1.0, 1.0) * np.array(t.scale)
-        if t.action_type == "wheels":
-            from radial_ibvs_gym.physics import wheels_to_twist
-
-            command = wheels_to_twist(command, t.robot)
+        command = rules.twist_commands(a, t)
         if resetting is not None and resetting.any():
             command[resetting] = 0.0  # ignored: these envs are reset below
         poses, collision = self.fleet.step(command, t.control_dt)

@@ -45,6 +45,7 @@ __all__ = [
     "reward_info",
     "reward_terms",
     "reward_terms_in",
+    "twist_commands",
 ]
 
 #: the success tolerances results are reported at (position in metres, heading in degrees):
@@ -126,6 +127,31 @@ def real_actions(action: Any) -> np.ndarray:
     if raw.dtype.kind not in "iuf":
         raise ValueError(f"action must be {ACTION_RULE}, got an array of {raw.dtype}")
     return raw.astype(np.float64)
+
+
+def twist_commands(actions: NDArray[np.float64], config: Any) -> NDArray[np.float64]:
+    """Return the robot commands ``(N, 2)`` ``(v, omega)`` that actions ``(N, 2)`` ask for.
+
+    The actions are clipped to ``[-1, 1]`` and scaled by ``config.scale``; with
+    ``config.action_type == "wheels"`` those are the wheels' angular speeds (rad/s), turned into
+    ``(v, omega)`` (m/s, rad/s) by :func:`~radial_ibvs_gym.physics.wheels_to_twist`. What the
+    vector env steps and a recorded bag's ``/cmd_vel`` holds; the scalar env computes the same
+    numbers on Python floats (its hot path; tested equal).
+
+    Parameters
+    ----------
+    actions
+        ``(N, 2)`` finite real actions (:func:`real_actions`).
+    config
+        The env's :class:`~radial_ibvs_gym.envs.config.ParkingConfig` (``scale``,
+        ``action_type``, ``robot``).
+    """
+    command = np.clip(actions, -1.0, 1.0) * np.array(config.scale)
+    if config.action_type == "wheels":
+        from radial_ibvs_gym.physics import wheels_to_twist  # the simulator, loaded on use
+
+        command = wheels_to_twist(command, config.robot)
+    return command
 
 
 _TWO_PI = 2.0 * math.pi

@@ -567,3 +567,23 @@ def test_every_title_of_a_rendered_frame_lies_inside_it() -> None:
         assert axes.get_title() and 0 <= box.y0 and box.y1 <= height, axes.get_title()
         assert 0 <= box.x0 and box.x1 <= width, axes.get_title()
     env.close()
+
+
+@pytest.mark.parametrize("action_type", ["twist", "wheels"])
+def test_the_scalar_envs_command_is_rules_twist_commands(action_type: str) -> None:
+    """The scalar env's Python-float hot path gives the commands of the shared rule."""
+    from radial_ibvs_gym.envs.rules import twist_commands
+
+    env = gym.make("RadialIBVS/Parking-v0", physics="kinematic", action_type=action_type)
+    base = env.unwrapped
+    env.reset(seed=0)
+    sent: list[tuple[float, float]] = []
+    step = base.world.step
+    base.world.step = lambda command, dt: (sent.append(command), step(command, dt))[1]
+    rng = np.random.default_rng(4)
+    actions = rng.uniform(-2.5, 2.5, (40, 2)).astype(np.float32)  # beyond [-1, 1] too
+    actions[:4] = [[1.0, -1.0], [0.0, 0.0], [-1.0, 1.0], [1e-9, -1e-9]]
+    for action in actions:
+        env.step(action)
+    expected = twist_commands(actions.astype(np.float64), base.config)
+    np.testing.assert_array_equal(np.array(sent, dtype=np.float64), expected)

@@ -53,12 +53,9 @@ def twist_of(config: Any, action: Any) -> tuple[float, float]:
         ``(2,)`` the policy's action (clipped to [-1, 1] as the env clips it).
     """
     from radial_ibvs_gym.envs import rules
-    from radial_ibvs_gym.physics import wheels_to_twist
 
-    a = np.clip(rules.real_actions(action).reshape(-1), -1.0, 1.0) * np.asarray(config.scale)
-    if config.action_type == "wheels":
-        a = np.asarray(wheels_to_twist(a, config.robot), dtype=np.float64)
-    return float(a[0]), float(a[1])
+    v, omega = rules.twist_commands(rules.real_actions(action).reshape(1, 2), config)[0]
+    return float(v), float(omega)
 
 
 def _end(info: Mapping[str, Any], truncated: bool) -> str:
