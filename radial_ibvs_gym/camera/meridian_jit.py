@@ -37,8 +37,8 @@ def kernel() -> Callable[..., Any] | None:
     if not _KERNEL:
         try:
             from radial_ibvs_gym.camera._meridian_numba import solve_hyperboloid
-        except ImportError:  # numba is not installed
-            _KERNEL.append(None)
+        except Exception:  # no numba, or one that cannot compile or cache here
+            _KERNEL.append(None)  # numpy gives the same bits
         else:
             _KERNEL.append(solve_hyperboloid)
     return _KERNEL[0]
