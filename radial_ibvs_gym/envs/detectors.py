@@ -5,8 +5,9 @@ number of beacons) and builds the pipeline
 (:class:`~radial_ibvs_gym.vision.pipeline.DetectedPoints`) that the scalar env holds.
 :class:`DetectorRows` gives each robot of
 :class:`~radial_ibvs_gym.envs.parking_vector.ParkingVectorEnv` its own pipeline (scene,
-calibration, tracker), all sharing one renderer per camera, and measures a batch of robots
-per call: each robot's frame is rendered and detected as the scalar env does it, with its own
+calibration, tracker), all sharing one renderer per camera (which keeps the rays' floor and
+ceiling hits of up to one room height per robot), and measures a batch of robots per call:
+each robot's frame is rendered and detected as the scalar env does it, with its own
 generator, so the points are the same bit for bit. The frames are rendered one at a time:
 shading a batch's rays in one numpy pass was measured slower per frame (its arrays leave the
 cache; docs/benchmarks.md).
@@ -71,6 +72,9 @@ class DetectorRows:
     def __init__(self, config: ParkingConfig, n: int) -> None:
         first = make_detector(config)
         self.rows = [first] + [first.sharing() for _ in range(n - 1)]
+        for renderer in first.renderers.values():
+            if renderer is not None:  # each robot's room height stays cached, as in its own
+                renderer.cached_heights = n
 
     def __getitem__(self, i: int) -> DetectedPoints:
         return self.rows[i]

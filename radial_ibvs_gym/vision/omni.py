@@ -20,7 +20,9 @@ checks it against that reference).
 from __future__ import annotations
 
 import math
+from collections import OrderedDict
 from dataclasses import dataclass
+from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -105,13 +107,17 @@ class OmniRenderer:
         self._origins = origins[rays]
         self._directions = directions[rays]
         self._flat_shade = np.where(self._directions[:, 2] > 0, SHADE["ceiling"], SHADE["floor"])
-        self._vertical_cache: tuple[float, VerticalHits] | None = None
-        # (room height, exposure) and the quantised image of v.image at them
-        self._quantised_cache: tuple[tuple[float, float], NDArray[np.uint8]] | None = None
+        #: how many room heights' ray hits (and quantised images) are kept, the latest used;
+        #: robots of a vector env that share this renderer keep one each at most
+        self.cached_heights = 1
+        self._vertical_cache: OrderedDict[float, VerticalHits] = OrderedDict()
+        # (room height, exposure): the quantised image of v.image at them
+        self._quantised_cache: OrderedDict[tuple[float, float], NDArray[np.uint8]] = OrderedDict()
 
     def _vertical(self, height: float) -> VerticalHits:
         """Return the rays' floor or ceiling hits for a room height, sorted by reach (cached)."""
-        if self._vertical_cache is None or self._vertical_cache[0] != height:
+        hits = _cached(self._vertical_cache, height)
+        if hits is None:
             hits = VerticalHits.of(
                 self._origins,
                 self._directions,
@@ -121,8 +127,8 @@ class OmniRenderer:
                 self.camera_height,
                 height,
             )
-            self._vertical_cache = (height, hits)
-        return self._vertical_cache[1]
+            _store(self._vertical_cache, height, hits, self.cached_heights)
+        return hits
 
     def sensor_to_image(self, uv: ArrayLike) -> NDArray[np.float64]:
         """Sensor pixels ``(..., 2)`` to rendered-image pixels ``(..., 2)`` (column, row)."""
@@ -164,9 +170,11 @@ class OmniRenderer:
         # ceiling shade keep their quantised grey level too (cached per room height)
         v, k, x, y, c, s = self._frame(pose, scene)
         key = (scene.height, quality.exposure)
-        if self._quantised_cache is None or self._quantised_cache[0] != key:
-            self._quantised_cache = (key, _quantise(v.image, quality.exposure))
-        image = self._quantised_cache[1].copy()
+        base = _cached(self._quantised_cache, key)
+        if base is None:
+            base = _quantise(v.image, quality.exposure)
+            _store(self._quantised_cache, key, base, self.cached_heights)
+        image = base.copy()
         image[v.index[k:]] = _quantise(shade_rays(v, k, x, y, c, s, scene), quality.exposure)
         return image.reshape(self.size, self.size)
 
@@ -209,6 +217,21 @@ class OmniRenderer:
         inner = min(x, w - x, y, depth - y) - _MARGIN
         k = int(np.searchsorted(v.reach, inner)) if inner > v.origin_reach else 0
         return v, k, x, y, math.cos(yaw), math.sin(yaw)
+
+
+def _cached(cache: OrderedDict[Any, Any], key: Any) -> Any:
+    """Return ``cache[key]`` (now the latest used) or None."""
+    value = cache.get(key)
+    if value is not None:
+        cache.move_to_end(key)
+    return value
+
+
+def _store(cache: OrderedDict[Any, Any], key: Any, value: Any, size: int) -> None:
+    """Keep ``value`` under ``key``, dropping the least recently used beyond ``size`` entries."""
+    cache[key] = value
+    while len(cache) > max(1, size):
+        cache.popitem(last=False)
 
 
 #: metres: a floor hit this much nearer than the walls is on the floor, in every rounding

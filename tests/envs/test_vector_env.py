@@ -134,6 +134,34 @@ def test_native_equals_sync_with_detected_points(
     assert ends >= 6  # truncations at 12 steps
 
 
+def test_detected_points_in_rooms_of_different_heights_keep_one_cached_height_per_robot() -> None:
+    """Random rooms with large beacons: the rendered rooms' heights differ per episode."""
+    kwargs: dict[str, Any] = {"scenario": "random", "image_size": 128, "beacon_radius": 0.25}
+    ends = _run_both(
+        "RadialIBVS/Parking-v0",
+        3,
+        30,
+        "next_step",
+        0.0,
+        physics="kinematic",
+        measurement="detected",
+        max_episode_steps=5,
+        **kwargs,
+    )
+    assert ends >= 9
+    native = ParkingVectorEnv(
+        3, physics="kinematic", measurement="detected", max_episode_steps=5, **kwargs
+    )
+    native.reset(seed=3)
+    heights = set()
+    renderer = native._detectors[0].renderers["current"]  # type: ignore[index]
+    for _ in range(20):
+        native.step(np.zeros((3, 2), dtype=np.float32))
+        heights |= {d.scene.height for d in native._detectors.rows}  # type: ignore[union-attr]
+        assert len(renderer._vertical_cache) <= 3  # bounded: one height per robot
+    assert len(heights) > 3  # the rooms' heights did differ
+
+
 def test_the_vector_envs_frames_are_the_scalar_envs_by_hash() -> None:
     """The images each robot rendered and detected: the scalar env's, by SHA-256, step by step."""
     import hashlib
