@@ -37,8 +37,21 @@ def kernel() -> Callable[..., Any] | None:
     if not _KERNEL:
         try:
             from radial_ibvs_gym.camera._meridian_numba import solve_hyperboloid
+
+            _warm_up(solve_hyperboloid)  # compiles now (or loads numba's cache), inside the try
         except Exception:  # no numba, or one that cannot compile or cache here
             _KERNEL.append(None)  # numpy gives the same bits
         else:
             _KERNEL.append(solve_hyperboloid)
     return _KERNEL[0]
+
+
+def _warm_up(solve: Callable[..., Any]) -> None:
+    """Call the loop once on a point off a one-cell table: numba compiles it for these types."""
+    import numpy as np
+
+    one = np.ones(1)
+    solve(
+        one, one, 1.0, 1.0, 1.0, -1.0, np.zeros((1, 5)), 1, 1, 1.0, 1.0, 1, np.empty(1),
+        np.empty(1, dtype=np.bool_),
+    )  # fmt: skip

@@ -82,8 +82,8 @@ class ParkingVectorEnv(VectorEnv):
     registration's 600 by default), and every keyword argument of ``ParkingEnv``.
     ``render_mode`` is not batched: use ``vectorization_mode="sync"`` for it. With
     ``measurement="detected"`` each robot renders and detects its own frame, as the scalar
-    env does (:class:`~radial_ibvs_gym.envs.detectors.DetectorRows`: the renderers shared, the
-    same points bit for bit); the step around it, the policy's call and the physics are batched.
+    env does (:class:`~radial_ibvs_gym.envs.detectors.DetectorRows`: the renderers shared; on
+    the kinematic backend the same points bit for bit); the step around it is batched.
 
     ## Errors
     A NaN or infinite action raises ``ValueError`` naming the env; so does an action of the
@@ -172,7 +172,7 @@ class ParkingVectorEnv(VectorEnv):
         self._detectors = DetectorRows(config, n) if config.measurement == "detected" else None
         #: the imperfect cameras as arrays, their noise drawn ahead (None: the ideal camera or
         #: detected points, whose noise the renderer draws)
-        self._cameras = None if self._fast or self._detectors else CameraRows(n, nl)
+        self._cameras = None if self._fast or self._detectors is not None else CameraRows(n, nl)
 
     def _single_observation_space(self) -> spaces.Space[Any]:
         """One robot's observation space (the scalar env's)."""

@@ -9,7 +9,6 @@ fit on the episode's first image. An image without a border at reset is an error
 
 from __future__ import annotations
 
-import copy
 import math
 from dataclasses import dataclass
 from typing import Any
@@ -60,6 +59,9 @@ class DetectedPoints:
         Radius of the beacons, metres.
     quality
         Sensor noise, blur and exposure.
+    renderers
+        The renderers of another pipeline of the same cameras, size and height, to share
+        (:meth:`sharing`); ``None`` builds this pipeline's own.
     """
 
     def __init__(
@@ -70,11 +72,13 @@ class DetectedPoints:
         image_size: int = 256,
         beacon_radius: float = 0.08,
         quality: ImageQuality | None = None,
+        renderers: dict[str, OmniRenderer | None] | None = None,
     ) -> None:
         if not (math.isfinite(beacon_radius) and beacon_radius > 0):
             raise ValueError(f"beacon_radius must be positive (metres), got {beacon_radius!r}")
         self.camera_height = float(camera_height)
-        self.renderers = {
+        self.image_size = image_size
+        self.renderers = renderers or {
             "current": OmniRenderer(camera, image_size, camera_height),
             "goal": OmniRenderer(goal_camera, image_size, camera_height)
             if goal_camera is not camera
@@ -96,11 +100,15 @@ class DetectedPoints:
         the robots of a vector env share them, each with its own scene, calibration and
         tracker.
         """
-        other = copy.copy(self)
-        other.scene, other.border, other.tracker = None, None, None
-        other.status, other.last = "ok", {}
-        other.__dict__.pop("_current", None)
-        return other
+        return DetectedPoints(
+            self.cameras["current"],
+            self.cameras["goal"],
+            self.camera_height,
+            self.image_size,
+            self.beacon_radius,
+            self.quality,
+            renderers=self.renderers,
+        )
 
     def _renderer(self, which: str) -> OmniRenderer:
         return self.renderers[which] or self.renderers["current"]  # type: ignore[return-value]

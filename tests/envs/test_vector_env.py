@@ -134,6 +134,22 @@ def test_native_equals_sync_with_detected_points(
     assert ends >= 6  # truncations at 12 steps
 
 
+def test_the_goal_conditioned_vector_env_with_detected_points_equals_sync() -> None:
+    ends = _run_both(
+        "RadialIBVS/ParkingGoal-v1",
+        2,
+        20,
+        "next_step",
+        0.0,
+        scenario="paper-lab",
+        physics="kinematic",
+        measurement="detected",
+        image_size=256,
+        max_episode_steps=8,
+    )
+    assert ends >= 4
+
+
 def test_detected_points_in_rooms_of_different_heights_keep_one_cached_height_per_robot() -> None:
     """Random rooms with large beacons: the rendered rooms' heights differ per episode."""
     kwargs: dict[str, Any] = {"scenario": "random", "image_size": 128, "beacon_radius": 0.25}
@@ -149,17 +165,21 @@ def test_detected_points_in_rooms_of_different_heights_keep_one_cached_height_pe
         **kwargs,
     )
     assert ends >= 9
-    native = ParkingVectorEnv(
-        3, physics="kinematic", measurement="detected", max_episode_steps=5, **kwargs
-    )
-    native.reset(seed=3)
-    heights = set()
-    renderer = native._detectors[0].renderers["current"]  # type: ignore[index]
-    for _ in range(20):
-        native.step(np.zeros((3, 2), dtype=np.float32))
-        heights |= {d.scene.height for d in native._detectors.rows}  # type: ignore[union-attr]
-        assert len(renderer._vertical_cache) <= 3  # bounded: one height per robot
-    assert len(heights) > 3  # the rooms' heights did differ
+    # robots in rooms of three heights, stepping on: no room's floor and ceiling hits recomputed
+    from radial_ibvs_gym.vision import room_rays
+
+    native = ParkingVectorEnv(3, physics="kinematic", measurement="detected", **kwargs)
+    native.reset(seed=1)
+    assert len({d.scene.height for d in native._detectors.rows}) == 3  # type: ignore[union-attr]
+    computed = []
+    of = room_rays.VerticalHits.of
+    with pytest.MonkeyPatch.context() as patch:
+        patch.setattr(
+            room_rays.VerticalHits, "of", lambda *a, **k: computed.append(1) or of(*a, **k)
+        )
+        for _ in range(10):
+            native.step(np.zeros((3, 2), dtype=np.float32))
+    assert computed == []
 
 
 def test_the_vector_envs_frames_are_the_scalar_envs_by_hash() -> None:

@@ -20,8 +20,8 @@ suites, 408 episodes per policy), while through a noisy camera 1 to 16 of 100 ep
 the other way (both ways: the student's rate moved from 63 to 65 % through noise and
 calibration error together), as small differences grow along a noisy episode. With
 ``measurement="detected"`` each robot's frame is rendered and detected one at a time inside
-the vector env (the same points as the scalar env's, bit for bit); the batch's policy call and
-step are batched around them. Where the
+the vector env (on the kinematic backend, the only one batched here, the same points as the
+scalar env's, bit for bit); the batch's policy call and step are batched around them. Where the
 vector env cannot run a variant, :func:`batchable` says why, and
 :func:`~radial_ibvs_agents.rollouts.run_episodes` runs the scalar path:
 
