@@ -4,7 +4,7 @@ The env's jobs live in their own modules: its arguments in :mod:`~radial_ibvs_gy
 drawing an episode and its goal image in :mod:`~radial_ibvs_gym.envs.episodes`, what the robot
 sees in :mod:`~radial_ibvs_gym.envs.observation`, the task's rules (errors, reward, episode end,
 ``info``) in :mod:`~radial_ibvs_gym.envs.rules`. This module steps, resets and renders.
-Its length (about 560 lines) is mostly the class docstring (and the read-only views a recorder
+Its length (about 540 lines) is mostly the class docstring (and the read-only views a recorder
 uses: the episode, the image points, the detector's frames): Gymnasium's layout of an env's
 documentation (spaces, rewards, episode end, the arguments' table), which the site renders.
 """

@@ -10,7 +10,7 @@ keyword arguments, validated into the same :class:`~radial_ibvs_gym.envs.config.
 and gives the same numbers as ``gym.make_vec(..., vectorization_mode="sync")`` on the same
 seeds and actions.
 
-One class of about 500 lines: its reset, its step with its three autoreset modes, its observation
+One class of about 530 lines: its reset, its step with its three autoreset modes, its observation
 and its info share the step state it holds, so they stay together. The episodes' ``(N, ...)``
 arrays are in :class:`~radial_ibvs_gym.envs.episode_batch.EpisodeBatch`, the info helpers in
 :mod:`~radial_ibvs_gym.envs.vector_info`, the goal-conditioned variant in
@@ -373,9 +373,9 @@ class ParkingVectorEnv(VectorEnv):
         measured by the reset).
         """
         batch = self.batch
-        nl = self._points.shape[1]
         if self._detectors is not None:
             if len(indices):
+                nl = self._points.shape[1]
                 self._points[indices], self._visible[indices] = (
                     self._detectors.initial(indices, nl)
                     if first

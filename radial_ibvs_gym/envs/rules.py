@@ -7,10 +7,12 @@ the native vector env (a leading ``(B,)`` batch of envs), so the two cannot drif
   episode ends;
 - :func:`reward_terms`: ``Parking-v0``'s (and ``ParkingImage-v0``'s) named reward terms;
   :func:`goal_reward_terms`: ``ParkingGoal-v1``'s, all inside ``compute_reward`` (for HER);
-- :func:`info_values`: the ``info`` keys every env reports, after ``reset`` and ``step``.
+- :func:`info_values`: the ``info`` keys every env reports, after ``reset`` and ``step``;
+- :func:`real_actions`, :func:`twist_commands`: what an action may be, and the command it asks.
 
 What the robot sees is in :mod:`~radial_ibvs_gym.envs.observation`. Pure numpy; world frame,
-metres, radians.
+metres, radians. About 470 lines, one owner of the task's rules: the reward terms, the episode
+end and the info read the same errors, tolerances and constants defined here.
 """
 
 from __future__ import annotations
